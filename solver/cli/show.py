@@ -1,0 +1,117 @@
+"""`ink-tables show`: summary of a table and the paper's Fig. 6 picture.
+
+Fig. 6 (paper §3.2): a vertical strip of the ink on paper under uniform diffuse light, view
+angle 0° (top) to 60° (bottom), beside a square of the diffuse BRDF colour, light angle 0–60°
+along x and view angle 0–60° along y.  sRGB under D65, scaled so that a white Lambertian of
+albedo 1 is (255, 255, 255).  The square shows π·f without the mirror lobe, averaged over the
+azimuth difference Δφ (or at one Δφ with --dphi).
+"""
+
+from __future__ import annotations
+
+import argparse
+
+import numpy as np
+
+from ..colour import lab_hue_chroma, reflectance_to_srgb8, reflectance_to_xyz, xyz_to_lab
+from ..table import read_table
+from ..table.evaluate import diffuse_brdf, directional_albedo
+
+MAX_ANGLE_DEG = 60.0
+
+
+def figure6(table, paper: float = 0.9, size: int = 256, strip: int = 64, gap: int = 16,
+            dphi_deg: float | None = None) -> np.ndarray:
+    """The Fig. 6 image as uint8 RGB, shape (size, strip + gap + size, 3)."""
+    view = np.radians(np.linspace(0.0, MAX_ANGLE_DEG, size))
+    strip_rgb = reflectance_to_srgb8(table.wavelengths, directional_albedo(table, paper, view), axis=0)
+    light = view
+    if dphi_deg is None:
+        dphi = np.linspace(0.0, np.pi, 9)
+        spec = np.mean([diffuse_brdf(table, paper, light[None, :], view[:, None], p) for p in dphi], axis=0)
+    else:
+        spec = diffuse_brdf(table, paper, light[None, :], view[:, None], np.radians(dphi_deg))
+    square_rgb = reflectance_to_srgb8(table.wavelengths, spec, axis=0)       # [view, light, 3]
+    image = np.full((size, strip + gap + size, 3), 255, dtype=np.uint8)
+    image[:, :strip] = strip_rgb[:, None, :]
+    image[:, strip + gap:] = square_rgb
+    return image
+
+
+def summary(table, paper: float = 0.9) -> str:
+    meta = table.meta
+    wl = table.wavelengths
+    lines = [
+        f"ink {meta.get('ink')}  particles {meta.get('particles')}  tier {meta.get('tier')}  "
+        f"thickness {meta.get('thickness_nm')} nm  schema v{meta.get('schema_version')}",
+        f"wavelengths {wl[0]:g}–{wl[-1]:g} nm ({wl.size})  incidence angles {table.sigma.size}  "
+        f"BRDF grid θ×Δφ {table.theta.size}×{table.dphi.size}  diffuse R: {'yes' if table.has_diffuse else 'none'}",
+        f"generator {meta.get('generator')}  seeds {meta.get('seeds')}",
+    ]
+    if table.errors:
+        worst = {k: float(np.max(v)) for k, v in table.errors.items()}
+        lines.append("largest standard errors: " + ", ".join(f"{k} {v:.2g}" for k, v in worst.items()))
+    lines.append("  λ nm   R_spec(0°)  Rbar(0°)  Tbar(0°)  A(0°)   Rbar(60°)  Tbar(60°)")
+    i60 = int(np.argmin(np.abs(table.sigma - np.radians(60))))
+    for li in np.unique(np.linspace(0, wl.size - 1, min(wl.size, 9)).round().astype(int)):
+        err = table.errors.get("Tbar")
+        pm = f" ±{err[li, 0]:.3f}" if err is not None else ""
+        lines.append(f"  {wl[li]:5.0f}  {table.R_spec[li, 0]:9.4f}  {table.Rbar[li, 0]:8.4f}  "
+                     f"{table.Tbar[li, 0]:8.4f}{pm}  {1 - table.Rbar[li, 0] - table.Tbar[li, 0]:6.4f}  "
+                     f"{table.Rbar[li, i60]:9.4f}  {table.Tbar[li, i60]:9.4f}")
+    for angle in (0.0, 45.0):
+        refl = directional_albedo(table, paper, np.radians(angle))
+        lab = xyz_to_lab(reflectance_to_xyz(wl, refl))
+        hue, chroma = lab_hue_chroma(lab)
+        lines.append(f"on paper r={paper:g}, diffuse light, view {angle:g}°: "
+                     f"L*a*b* = ({lab[0]:.1f}, {lab[1]:.1f}, {lab[2]:.1f}), hue {hue:.0f}°, chroma {chroma:.1f}, "
+                     f"sRGB {tuple(int(v) for v in reflectance_to_srgb8(wl, refl))}")
+    return "\n".join(lines)
+
+
+def plot_spectra(table, path: str) -> None:
+    """Coherent and total reflectance/transmittance spectra at 0° and 45°, with error bars."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4), sharey=True)
+    for ax, angle in zip(axes, (0.0, 45.0)):
+        i = int(np.argmin(np.abs(table.sigma - np.radians(angle))))
+        for name in ("R_spec", "Rbar", "T_coh", "Tbar"):
+            err = table.errors.get(name)
+            ax.errorbar(table.wavelengths, table.column(name)[:, i],
+                        yerr=None if err is None else err[:, i], label=name, capsize=2)
+        ax.set_title(f"{table.meta.get('ink')} {table.meta.get('particles')}, σ = {np.degrees(table.sigma[i]):.0f}°")
+        ax.set_xlabel("wavelength (nm)")
+        ax.grid(alpha=0.3)
+    axes[0].set_ylabel("power fraction")
+    axes[0].legend()
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def add_parser(sub) -> None:
+    p = sub.add_parser("show", help="summarise a table; draw the paper's Fig. 6",
+                       formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+    p.add_argument("file", help="table file (.npz)")
+    p.add_argument("--png", help="write the Fig. 6 picture (strip + BRDF square) here")
+    p.add_argument("--plot", help="write spectra with error bars here (PNG)")
+    p.add_argument("--paper", type=float, default=0.9, help="paper albedo r")
+    p.add_argument("--dphi", type=float, default=None,
+                   help="azimuth difference (deg) for the BRDF square; default: average over Δφ")
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    table = read_table(args.file)
+    print(summary(table, args.paper))
+    if args.png:
+        import matplotlib.image
+        matplotlib.image.imsave(args.png, figure6(table, args.paper, dphi_deg=args.dphi))
+        print(f"wrote {args.png}")
+    if args.plot:
+        plot_spectra(table, args.plot)
+        print(f"wrote {args.plot}")
+    return 0

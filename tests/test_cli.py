@@ -1,0 +1,45 @@
+"""The `ink-tables` command line: build, show, and its error messages."""
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from solver.cli import main
+from solver.cli.build import parse_range
+from solver.table import read_table
+
+
+def test_build_and_show(tmp_path, capsys):
+    out = tmp_path / "G30.npz"
+    assert main(["build", "--ink", "G30", "--wavelengths", "400:700:50", "--angles", "7", "-o", str(out)]) == 0
+    table = read_table(out)
+    np.testing.assert_array_equal(table.wavelengths, [400, 450, 500, 550, 600, 650, 700])
+    assert table.sigma.size == 7 and table.meta["ink"] == "G30" and table.meta["thickness_nm"] == 1000
+    png, plot = tmp_path / "g.png", tmp_path / "s.png"
+    assert main(["show", str(out), "--png", str(png), "--plot", str(plot)]) == 0
+    text = capsys.readouterr().out
+    assert "ink G30" in text and "hue" in text
+    import matplotlib.image
+    image = matplotlib.image.imread(png)
+    assert image.shape[0] == 256 and image.shape[1] == 64 + 16 + 256
+    assert plot.stat().st_size > 0
+
+
+def test_console_script_reports_bad_input(tmp_path):
+    exe = [sys.executable, "-m", "solver.cli"]
+    for args, words in ((["build", "--ink", "Q5", "-o", str(tmp_path / "x.npz")], "unknown pigment 'Q'"),
+                        (["build", "--ink", "R5", "--thickness", "0", "-o", str(tmp_path / "x.npz")], "thickness"),
+                        (["build", "--ink", "R70+Y40", "-o", str(tmp_path / "x.npz")], "exceeds 100%"),
+                        (["show", str(tmp_path / "missing.npz")], "not found")):
+        res = subprocess.run(exe + args, capture_output=True, text=True)
+        assert res.returncode == 2, res.stderr
+        assert words in res.stderr and res.stderr.count("\n") == 1, res.stderr
+
+
+def test_parse_range():
+    np.testing.assert_allclose(parse_range("380:780:10")[[0, -1]], [380, 780])
+    assert parse_range("380:780:10").size == 41 and parse_range("500").tolist() == [500.0]
+    with pytest.raises(ValueError, match="STEP"):
+        parse_range("780:380:10")

@@ -1,0 +1,70 @@
+"""Table schema v1: round trip and one clear error for each kind of bad file."""
+
+import json
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from solver.inks import parse_ink
+from solver.table import InkTable, TableError, read_table, write_table
+from solver.table.thinfilm_tier import build_thinfilm_table
+
+
+@pytest.fixture()
+def table():
+    return build_thinfilm_table(parse_ink("Y7.5+B7.5"), 1000.0, np.arange(380.0, 781.0, 40.0),
+                                np.linspace(0, np.pi / 2, 10))
+
+
+def test_round_trip(tmp_path, table):
+    path = write_table(tmp_path / "t.npz", table)
+    back = read_table(path)
+    for name in ("wavelengths", "sigma", "theta", "dphi", "R", "R_spec", "T_coh", "Rbar", "Tbar", "Rbar_below"):
+        np.testing.assert_array_equal(getattr(back, name), getattr(table, name))
+    assert back.meta == table.meta
+    assert not list(tmp_path.glob("*.tmp"))          # atomic write leaves no temp file
+
+
+def test_missing_file(tmp_path):
+    with pytest.raises(TableError, match="not found"):
+        read_table(tmp_path / "nope.npz")
+
+
+def test_truncated_file(tmp_path, table):
+    path = write_table(tmp_path / "t.npz", table)
+    data = path.read_bytes()
+    path.write_bytes(data[: len(data) // 2])
+    with pytest.raises(TableError, match="truncated or corrupt"):
+        read_table(path)
+
+
+def test_wrong_version(tmp_path, table):
+    path = tmp_path / "v2.npz"
+    arrays = {k: getattr(table, k) for k in ("wavelengths", "sigma", "theta", "dphi", "R", "R_spec",
+                                               "T_coh", "Rbar", "Tbar", "Rbar_below")}
+    np.savez(path, meta=np.array(json.dumps({**table.meta, "schema_version": 2})), **arrays)
+    with pytest.raises(TableError, match="schema version 2 is not supported"):
+        read_table(path)
+
+
+def test_missing_array(tmp_path, table):
+    path = tmp_path / "m.npz"
+    np.savez(path, meta=np.array(json.dumps(table.meta)), wavelengths=table.wavelengths)
+    with pytest.raises(TableError, match="missing arrays: sigma"):
+        read_table(path)
+
+
+@pytest.mark.parametrize("change, message", [
+    (lambda t: replace(t, R=t.R[:, :, :1]), "'R' has shape"),
+    (lambda t: replace(t, Tbar=np.where(np.arange(t.Tbar.size).reshape(t.Tbar.shape) == 3, np.nan, t.Tbar)),
+     "'Tbar' has 1 non-finite"),
+    (lambda t: replace(t, sigma=t.sigma[::-1]), "strictly increasing"),
+    (lambda t: replace(t, sigma=t.sigma * 0.9), "must run from 0"),
+    (lambda t: replace(t, R_spec=t.R_spec * 2 + 0.6), "exceeds"),
+    (lambda t: replace(t, R=t.R + 0.1), "differs from R_spec"),
+])
+def test_invalid_tables_are_refused_with_the_reason(tmp_path, table, change, message):
+    with pytest.raises(TableError, match=message):
+        write_table(tmp_path / "bad.npz", change(table))
+    assert not list(tmp_path.iterdir())
