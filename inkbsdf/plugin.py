@@ -1,0 +1,159 @@
+"""The `ink` BSDF: a Mitsuba 3 plugin for printed ink on paper (DESIGN.md §1, docs/plugin.md).
+
+Components: 0 = coherent specular reflection of the layer (a delta lobe, c·R_spec(σ)),
+1 = everything smooth (diffuse layer lobe, light through the layer to the paper and back, bare
+paper). Front side only; spectral, unpolarized variants only.
+
+Sampling picks the delta lobe with probability P_spec = mean_λ(c·R_spec)/mean_λ(total albedo)
+per lane and otherwise samples the cosine-weighted hemisphere; `pdf` and `eval` cover component
+1 only, honouring the context's component and type flags.
+"""
+
+from __future__ import annotations
+
+import drjit as dr
+import mitsuba as mi
+
+from .model import InkModel
+from .source import load_table
+from .variant import check_variant
+
+PLUGIN_NAME = "ink"
+DEFAULT_PAPER_ALBEDO = 0.9
+DEFAULT_COVERAGE = 1.0
+SPECULAR, DIFFUSE = 0, 1            # component indices
+
+_classes: dict[str, type] = {}      # variant → BSDF class (a class derives from one variant's BSDF)
+_models: dict[tuple, tuple] = {}    # (variant, id(lut)) → (lut, InkModel): one copy per table
+_MAX_MODELS = 64
+
+
+def _clamp01(x):
+    x = dr.select(x > 0, x, 0.0)    # selects, not dr.clip: no NaN propagation
+    return dr.select(x < 1, x, 1.0)
+
+
+def _lobes(ctx):
+    """(specular enabled, diffuse enabled) for this context."""
+    return (ctx.is_enabled(mi.BSDFFlags.DeltaReflection, SPECULAR),
+            ctx.is_enabled(mi.BSDFFlags.DiffuseReflection, DIFFUSE))
+
+
+def model_for(lut):
+    """The Dr.Jit tables of `lut` for the active variant, shared by every BSDF using it."""
+    key = (mi.variant(), id(lut))
+    hit = _models.get(key)
+    if hit is None or hit[0] is not lut:
+        while len(_models) >= _MAX_MODELS:
+            _models.pop(next(iter(_models)))
+        hit = _models[key] = (lut, InkModel(lut))
+    return hit[1]
+
+
+def _define_class():
+    class InkBSDF(mi.BSDF):
+        def __init__(self, props):
+            mi.BSDF.__init__(self, props)
+            self.lut = load_table(props)
+            self.model = model_for(self.lut)
+            self.paper = props.get_texture("paper", DEFAULT_PAPER_ALBEDO)
+            self.coverage = props.get_texture("coverage", DEFAULT_COVERAGE)
+            delta = mi.BSDFFlags.DeltaReflection | mi.BSDFFlags.FrontSide
+            smooth = mi.BSDFFlags.DiffuseReflection | mi.BSDFFlags.FrontSide
+            if self.paper.is_spatially_varying() or self.coverage.is_spatially_varying():
+                smooth = smooth | mi.BSDFFlags.SpatiallyVarying
+                delta = delta | mi.BSDFFlags.SpatiallyVarying
+            self.m_components = [delta, smooth]
+            self.m_flags = delta | smooth
+
+        # -------------------------------------------------------------- helpers
+        def _incident(self, si, active):
+            c = _clamp01(self.coverage.eval_1(si, active))
+            r = _clamp01(mi.Spectrum(self.paper.eval(si, active)))
+            return self.model.incident(si.wi, si.wavelengths, c, r)
+
+        def _spec_prob(self, ctx, inc):
+            """Probability that sample() picks the delta lobe, given the enabled lobes."""
+            has_spec, has_diff = _lobes(ctx)
+            if has_spec and has_diff:
+                return self.model.spec_probability(inc)
+            return 1.0 if has_spec else 0.0
+
+        def _pdf(self, ctx, inc, wo):
+            """Density of the smooth lobe's samples (the delta lobe has none)."""
+            return (1.0 - self._spec_prob(ctx, inc)) * mi.warp.square_to_cosine_hemisphere_pdf(wo)
+
+        # ------------------------------------------------------------ interface
+        def sample(self, ctx, si, sample1, sample2, active=True):
+            has_spec, has_diff = _lobes(ctx)
+            bs = dr.zeros(mi.BSDFSample3f)
+            if not (has_spec or has_diff):
+                return bs, mi.Spectrum(0.0)
+            inc = self._incident(si, active)
+            p_spec = self._spec_prob(ctx, inc)
+            pick_spec = (sample1 < p_spec) & inc.front
+            wo_diff = mi.warp.square_to_cosine_hemisphere(sample2)
+            wo_spec = mi.reflect(si.wi)
+            bs.wo = dr.select(pick_spec, wo_spec, wo_diff)
+            pdf_diff = (1.0 - p_spec) * mi.warp.square_to_cosine_hemisphere_pdf(wo_diff)
+            bs.pdf = dr.select(pick_spec, p_spec, pdf_diff)
+            bs.eta = 1.0
+            bs.sampled_component = dr.select(pick_spec, mi.UInt32(SPECULAR), mi.UInt32(DIFFUSE))
+            bs.sampled_type = dr.select(pick_spec, mi.UInt32(+mi.BSDFFlags.DeltaReflection),
+                                        mi.UInt32(+mi.BSDFFlags.DiffuseReflection))
+            w_spec = inc.specular * (1.0 / dr.select(p_spec > 0, p_spec, 1.0))
+            f_diff = self.model.diffuse(inc, si.wi, wo_diff)
+            w_diff = dr.select(pdf_diff > 0, f_diff / dr.select(pdf_diff > 0, pdf_diff, 1.0), 0.0)
+            weight = dr.select(pick_spec, w_spec, w_diff)
+            ok = active & inc.front & (bs.pdf > 0)
+            bs.pdf = dr.select(ok, bs.pdf, 0.0)
+            return bs, dr.select(ok, weight, 0.0)
+
+        def eval(self, ctx, si, wo, active=True):
+            if not _lobes(ctx)[1]:
+                return mi.Spectrum(0.0)
+            value = self.model.diffuse(self._incident(si, active), si.wi, wo)
+            return dr.select(active, value, 0.0)
+
+        def pdf(self, ctx, si, wo, active=True):
+            if not _lobes(ctx)[1]:
+                return mi.Float(0.0)
+            inc = self._incident(si, active)
+            ok = active & inc.front & (mi.Frame3f.cos_theta(wo) > 0)
+            return dr.select(ok, self._pdf(ctx, inc, wo), 0.0)
+
+        def eval_pdf(self, ctx, si, wo, active=True):
+            if not _lobes(ctx)[1]:
+                return mi.Spectrum(0.0), mi.Float(0.0)
+            inc = self._incident(si, active)
+            ok = active & inc.front & (mi.Frame3f.cos_theta(wo) > 0)
+            value = self.model.diffuse(inc, si.wi, wo)
+            return dr.select(ok, value, 0.0), dr.select(ok, self._pdf(ctx, inc, wo), 0.0)
+
+        def traverse(self, callback):
+            callback.put("paper", self.paper, mi.ParamFlags.Differentiable)
+            callback.put("coverage", self.coverage, mi.ParamFlags.Differentiable)
+
+        def to_string(self):
+            return (f"InkBSDF[table={self.lut.source!r}, diffuse_layer={self.lut.has_diffuse}, "
+                    f"paper={self.paper}, coverage={self.coverage}]")
+
+    return InkBSDF
+
+
+def bsdf_class():
+    """The ink BSDF class for the active variant (checked: spectral and unpolarized)."""
+    variant = check_variant(mi.variant())
+    if variant not in _classes:
+        _classes[variant] = _define_class()
+    return _classes[variant]
+
+
+def register() -> str:
+    """Register the `ink` BSDF for the active Mitsuba variant; return the variant.
+
+    Call again after `mitsuba.set_variant`: Mitsuba's plugin registry is per variant.
+    """
+    cls = bsdf_class()
+    mi.register_bsdf(PLUGIN_NAME, lambda props: cls(props))
+    return mi.variant()

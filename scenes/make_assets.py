@@ -1,0 +1,204 @@
+"""Generate the demo scene `printed_page.xml` and its textures from one page layout.
+
+    python scenes/make_assets.py          # writes scenes/printed_page.xml, scenes/textures/*
+
+An A4 sheet (cm) with a colour chart of six ink patches (R30, Y30, B30, G30, the particle-free
+Y25+B5 mix and clear varnish), their labels, a title and a paragraph printed in B30 through a
+coverage texture (white = ink), on a dark table under a sky-gradient environment and a softbox
+at a low angle whose mirror image puts the inks' sheen on the far row of patches.
+The outputs are committed; rerun after changing the layout.
+"""
+
+from __future__ import annotations
+
+import textwrap
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+PAGE_W_CM, PAGE_H_CM = 21.0, 29.7
+TEXT_PX_PER_CM = 48
+SKY_SIZE = (256, 128)                  # lat-long width, height
+TEXT_INK = "B30"
+PATCH_LIFT_CM = 0.02                   # patches lie on the page, a hair above it
+
+
+@dataclass(frozen=True)
+class Patch:
+    ink: str                 # table name (<ink>.npz) and label
+    label: str
+    u_cm: float              # centre, from the page's left edge
+    v_cm: float              # centre, from the page's top edge
+    size_cm: float = 5.0
+
+
+PATCHES = (
+    Patch("R30", "R30", 5.0, 8.6), Patch("Y30", "Y30", 10.5, 8.6),
+    Patch("clear", "clear varnish", 16.0, 8.6), Patch("B30", "B30", 5.0, 15.4),
+    Patch("G30", "G30 (molecular)", 10.5, 15.4), Patch("Y25+B5", "Y25+B5 mix", 16.0, 15.4),
+)
+
+TITLE = "Printed ink on paper"
+SUBTITLE = "wave-optics tables of a 1 µm ink layer, rendered with Mitsuba 3"
+PARAGRAPH = (
+    "Each coloured patch is a binder layer one micrometre thick holding 30 % pigment by volume. "
+    "Its colour comes from light that crosses the layer, scatters in the paper and crosses "
+    "it again; its sheen is the layer's coherent mirror reflection, tinted by thin-film "
+    "interference. The green patch is a molecular mix of blue and yellow pigment; the "
+    "yellow-green one mixes 25 % yellow with 5 % blue. Clear varnish shows only its gloss."
+)
+
+
+def patch_id(p: Patch) -> str:
+    """Shape id of a patch in the scene (tests find patches by it)."""
+    return "patch_" + p.ink.replace("+", "_")
+
+
+def make_text_texture(path: Path) -> None:
+    """The page's coverage texture: title, labels, paragraph, crop marks (1 = ink)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    dpi = TEXT_PX_PER_CM * 2.54
+    fig = plt.figure(figsize=(PAGE_W_CM / 2.54, PAGE_H_CM / 2.54), dpi=dpi, facecolor="black")
+    ax = fig.add_axes((0, 0, 1, 1))
+    ax.set_xlim(0, PAGE_W_CM)
+    ax.set_ylim(PAGE_H_CM, 0)
+    ax.set_facecolor("black")
+    ax.axis("off")
+    pt = lambda cm: cm / 2.54 * 72.0          # noqa: E731  font size for a given em height
+    ax.text(PAGE_W_CM / 2, 3.3, TITLE, color="white", ha="center", va="baseline",
+            fontsize=pt(1.45), fontweight="bold", family="DejaVu Serif")
+    ax.text(PAGE_W_CM / 2, 4.5, SUBTITLE, color="white", ha="center", va="baseline",
+            fontsize=pt(0.52), family="DejaVu Sans", style="italic")
+    for p in PATCHES:
+        ax.text(p.u_cm, p.v_cm + p.size_cm / 2 + 0.75, p.label, color="white", ha="center",
+                va="baseline", fontsize=pt(0.6), family="DejaVu Sans", fontweight="bold")
+    lines = textwrap.wrap(PARAGRAPH, width=62)
+    for k, line in enumerate(lines):
+        ax.text(2.5, 21.4 + 0.85 * k, line, color="white", ha="left", va="baseline",
+                fontsize=pt(0.5), family="DejaVu Serif")
+    for cu, cv in ((1.0, 1.0), (PAGE_W_CM - 1.0, 1.0), (1.0, PAGE_H_CM - 1.0),
+                   (PAGE_W_CM - 1.0, PAGE_H_CM - 1.0)):
+        ax.plot([cu - 0.5, cu + 0.5], [cv, cv], color="white", lw=1.2)
+        ax.plot([cu, cu], [cv - 0.5, cv + 0.5], color="white", lw=1.2)
+    fig.canvas.draw()
+    rgba = np.asarray(fig.canvas.buffer_rgba())
+    plt.close(fig)
+    gray = rgba[:, :, 0].astype(np.uint8)[:, :, None]
+    import mitsuba as mi
+
+    mi.Bitmap(np.ascontiguousarray(gray), mi.Bitmap.PixelFormat.Y).write(str(path))
+
+
+def sky_radiance(elevation_rad: np.ndarray) -> np.ndarray:
+    """RGB radiance of an overcast-like sky by elevation: the zenith three times as bright as
+    the horizon (CIE overcast gradient), cool above, warm low, a dim ground below."""
+    zenith, horizon = np.array([0.92, 0.96, 1.00]), np.array([1.00, 0.96, 0.90])
+    ground = np.array([0.12, 0.11, 0.10])
+    e = elevation_rad[..., None]
+    up = np.clip(np.sin(e), 0.0, 1.0)
+    sky = (horizon + (zenith - horizon) * up) * (1.0 + 2.0 * up) / 3.0
+    return np.where(e >= 0.0, sky, ground + (horizon / 3.0 - ground) * np.exp(8.0 * e))
+
+
+def make_sky(path: Path) -> None:
+    """Lat-long environment map for Mitsuba's `envmap` (+Y up, row 0 = zenith), float32 EXR."""
+    import mitsuba as mi
+
+    w, h = SKY_SIZE
+    elevation = np.pi / 2 - (np.arange(h) + 0.5) / h * np.pi
+    rgb = np.repeat(sky_radiance(elevation)[:, None, :], w, axis=1).astype(np.float32)
+    mi.Bitmap(rgb, mi.Bitmap.PixelFormat.RGB).write(str(path))
+
+
+def _rect(u_cm, v_cm, half_w, half_h, lift_cm):
+    """<transform> of a rectangle lying on the page: +y is up, page top toward −z."""
+    x, z = u_cm - PAGE_W_CM / 2, v_cm - PAGE_H_CM / 2
+    return (f'<transform name="to_world"><scale x="{half_w:g}" y="{half_h:g}"/>'
+            f'<rotate x="1" angle="-90"/><translate x="{x:g}" y="{lift_cm:g}" z="{z:g}"/></transform>')
+
+
+def scene_xml() -> str:
+    patches = "\n".join(
+        f'    <shape type="rectangle" id="{patch_id(p)}">\n'
+        f'        {_rect(p.u_cm, p.v_cm, p.size_cm / 2, p.size_cm / 2, PATCH_LIFT_CM)}\n'
+        f'        <bsdf type="ink"><string name="filename" value="$tables/{p.ink}.npz"/>'
+        f'<float name="paper" value="$paper"/></bsdf>\n    </shape>' for p in PATCHES)
+    return f"""<!-- A printed page: generated by scenes/make_assets.py, edit the layout there.
+     Parameters: tables (folder of <ink>.npz), width, height, spp, paper (albedo). Units: cm. -->
+<scene version="3.0.0">
+    <default name="tables" value="../out/tables"/>
+    <default name="width" value="640"/>
+    <default name="height" value="512"/>
+    <default name="spp" value="64"/>
+    <default name="paper" value="0.9"/>
+    <default name="max_depth" value="4"/>
+
+    <integrator type="path"><integer name="max_depth" value="$max_depth"/></integrator>
+
+    <sensor type="perspective" id="camera">
+        <float name="fov" value="40"/>
+        <transform name="to_world"><lookat origin="0, 30, 33" target="0, 0, 0.3" up="0, 1, 0"/></transform>
+        <sampler type="independent"><integer name="sample_count" value="$spp"/></sampler>
+        <film type="hdrfilm">
+            <integer name="width" value="$width"/><integer name="height" value="$height"/>
+            <rfilter type="gaussian"/>
+        </film>
+    </sensor>
+
+    <emitter type="envmap" id="sky">
+        <string name="filename" value="textures/sky.exr"/>
+        <float name="scale" value="1.3"/>
+    </emitter>
+
+    <!-- softbox low over the far side: its mirror image lands on the far row of patches -->
+    <shape type="rectangle" id="softbox">
+        <transform name="to_world">
+            <scale x="6" y="3.5"/>
+            <lookat origin="6, 40, -57" target="2.5, 0, -6" up="0, 1, 0"/>
+        </transform>
+        <emitter type="area"><rgb name="radiance" value="3.0, 3.0, 3.0"/></emitter>
+    </shape>
+
+    <shape type="rectangle" id="table">
+        {_rect(PAGE_W_CM / 2, PAGE_H_CM / 2, 80, 80, -0.05)}
+        <bsdf type="diffuse"><rgb name="reflectance" value="0.16, 0.11, 0.08"/></bsdf>
+    </shape>
+
+    <!-- the sheet: paper everywhere, {TEXT_INK} ink where the coverage texture is white -->
+    <shape type="rectangle" id="page">
+        {_rect(PAGE_W_CM / 2, PAGE_H_CM / 2, PAGE_W_CM / 2, PAGE_H_CM / 2, 0.0)}
+        <bsdf type="ink">
+            <string name="filename" value="$tables/{TEXT_INK}.npz"/>
+            <float name="paper" value="$paper"/>
+            <texture type="bitmap" name="coverage">
+                <string name="filename" value="textures/page_text.png"/>
+                <boolean name="raw" value="true"/>
+                <transform name="to_uv"><scale y="-1"/><translate y="1"/></transform>
+            </texture>
+        </bsdf>
+    </shape>
+
+{patches}
+</scene>
+"""
+
+
+def main() -> None:
+    import mitsuba as mi
+
+    mi.set_variant("scalar_rgb")
+    (HERE / "textures").mkdir(exist_ok=True)
+    make_text_texture(HERE / "textures" / "page_text.png")
+    make_sky(HERE / "textures" / "sky.exr")
+    (HERE / "printed_page.xml").write_text(scene_xml())
+    print(f"wrote {HERE / 'printed_page.xml'} and textures/page_text.png, textures/sky.exr")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,122 @@
+"""Energy of the `ink` BSDF: white furnace (by sampling and by quadrature), ≤ 1 for every ink."""
+
+import numpy as np
+import pytest
+
+from conftest import ink_bsdf, surface_interaction
+from inkbsdf.demo_tables import DEMO_INKS, build_tables
+from inkbsdf.lut import directional_albedo, load_lut
+
+FURNACE_ANGLES_DEG = (0.0, 20.0, 40.0, 60.0, 80.0)
+N_SAMPLES = 1 << 18
+
+
+def _wi(deg, n):
+    s = np.radians(deg)
+    return np.tile([[np.sin(s)], [0.0], [np.cos(s)]], (1, n))
+
+
+def sampled_albedo(mi, bsdf, deg, wavelengths):
+    """Mean and standard error of sample() weights: the directional albedo, estimated."""
+    import drjit as dr
+
+    n = wavelengths.shape[1]
+    si = surface_interaction(mi, _wi(deg, n), wavelengths)
+    rng = np.random.default_rng(int(deg * 10) + 1)
+    u = rng.random((3, n))
+    _, w = bsdf.sample(mi.BSDFContext(), si, mi.Float(u[0]), mi.Point2f(mi.Float(u[1]), mi.Float(u[2])))
+    w = np.array([np.asarray(w[j]) for j in range(dr.size_v(mi.Spectrum))])
+    assert np.all(np.isfinite(w)) and np.all(w >= 0)
+    per_lane = w.mean(axis=0)              # a lane's wavelengths share its direction: correlated
+    return per_lane.mean(), per_lane.std() / np.sqrt(per_lane.size)
+
+
+def quadrature_albedo(mi, bsdf, deg, wavelengths_nm, n_theta=720, n_phi=96):
+    """∫ eval dωo by the midpoint rule, plus the delta lobe's c·R_spec (from sampling with
+    the delta lobe only), per wavelength [4]."""
+    import drjit as dr
+
+    th = (np.arange(n_theta) + 0.5) * (np.pi / 2 / n_theta)
+    ph = (np.arange(n_phi) + 0.5) * (2 * np.pi / n_phi)
+    T, P = np.meshgrid(th, ph, indexing="ij")
+    wo = np.stack([np.sin(T) * np.cos(P), np.sin(T) * np.sin(P), np.cos(T)]).reshape(3, -1)
+    n = wo.shape[1]
+    lam = np.tile(np.asarray(wavelengths_nm, float)[:, None], (1, n))
+    si = surface_interaction(mi, _wi(deg, n), lam)
+    value = bsdf.eval(mi.BSDFContext(), si, mi.Vector3f(*[mi.Float(c) for c in wo]))
+    d_omega = (np.sin(T) * (np.pi / 2 / n_theta) * (2 * np.pi / n_phi)).ravel()
+    smooth = np.array([np.sum(np.asarray(value[j]) * d_omega) for j in range(4)])
+    ctx = mi.BSDFContext()
+    ctx.type_mask = +mi.BSDFFlags.DeltaReflection
+    si1 = surface_interaction(mi, _wi(deg, 1), lam[:, :1])
+    _, w = bsdf.sample(ctx, si1, mi.Float(0.5), mi.Point2f(0.5, 0.5))
+    delta = np.array([np.asarray(w[j])[0] for j in range(dr.size_v(mi.Spectrum))])
+    return smooth + delta
+
+
+@pytest.fixture(scope="module")
+def odd_grid_tables(tmp_path_factory):
+    """Clear varnish on non-uniform λ and σ grids (exercises the cell-table locator)."""
+    folder = tmp_path_factory.mktemp("odd")
+    from solver.inks import parse_ink
+    from solver.table import write_table
+    from solver.table.thinfilm_tier import build_thinfilm_table
+
+    wl = np.array([380.0, 390.0, 405.0, 430.0, 470.0, 520.0, 600.0, 690.0, 760.0, 780.0])
+    sigma = (np.pi / 2) * np.sin(np.linspace(0.0, np.pi / 2, 23))        # dense near grazing
+    return write_table(folder / "clear_odd.npz", build_thinfilm_table(parse_ink("clear"), 1000.0, wl, sigma))
+
+
+@pytest.mark.parametrize("deg", FURNACE_ANGLES_DEG)
+@pytest.mark.parametrize("which", ["clear", "clear_odd", "lossless", "clear_half_covered"])
+def test_white_furnace_by_sampling(use_variant, ink_tables, diffuse_tables, odd_grid_tables, which, deg):
+    """A lossless layer on white paper (r = 1) reflects exactly 1 at every incidence 0–80°."""
+    mi = use_variant("llvm_ad_spectral")
+    path = {"clear": ink_tables["clear"], "clear_half_covered": ink_tables["clear"],
+            "clear_odd": odd_grid_tables, "lossless": diffuse_tables["lossless"]}[which]
+    coverage = 0.5 if which == "clear_half_covered" else 1.0
+    bsdf = ink_bsdf(mi, path, paper=1.0, coverage=coverage)
+    lam = np.random.default_rng(3).uniform(360.0, 830.0, size=(4, N_SAMPLES))
+    mean, err = sampled_albedo(mi, bsdf, deg, lam)
+    assert err < 4e-3
+    assert abs(mean - 1.0) < 4.5 * err + 1e-4, (mean, err)
+
+
+@pytest.mark.parametrize("which", ["clear", "lossless", "absorbing", "R30"])
+def test_albedo_quadrature_matches_exact(use_variant, ink_tables, diffuse_tables, which):
+    """∫ eval dω + c·R_spec equals the closed form c·[R_spec + R_diff + r·Tbar·τ̄/(1−rρ̄)] + (1−c)r."""
+    mi = use_variant("llvm_ad_spectral")
+    path = {**ink_tables, **diffuse_tables}[which]
+    lut = load_lut(path)
+    paper, coverage = 0.8, 0.9
+    bsdf = ink_bsdf(mi, path, paper=paper, coverage=coverage)
+    exact_nodes = directional_albedo(lut, paper, coverage)
+    lam_idx = np.round(np.linspace(1, lut.wavelengths_nm.size - 2, 4)).astype(int)
+    for s_idx in (0, lut.sigma_rad.size // 3, (2 * lut.sigma_rad.size) // 3):
+        deg = np.degrees(lut.sigma_rad[s_idx])
+        got = quadrature_albedo(mi, bsdf, deg, lut.wavelengths_nm[lam_idx])
+        np.testing.assert_allclose(got, exact_nodes[lam_idx, s_idx], rtol=5e-4, atol=1e-5)
+
+
+def test_exact_furnace_of_lossless_tables(ink_tables, diffuse_tables):
+    """The load-time integrals make a lossless layer on white paper reflect 1 at every node."""
+    for path in (ink_tables["clear"], diffuse_tables["lossless"]):
+        albedo = directional_albedo(load_lut(path), paper=1.0)
+        np.testing.assert_allclose(albedo, 1.0, atol=1e-9)
+    assert directional_albedo(load_lut(diffuse_tables["absorbing"]), paper=1.0).max() < 0.99
+
+
+@pytest.mark.parametrize("ink", DEMO_INKS + ("B50", "R15+Y15+B15"))
+def test_energy_at_most_one(use_variant, tmp_path, ink):
+    """Every ink on white or 0.9 paper reflects at most 1, at every incidence, by sampling too."""
+    mi = use_variant("llvm_ad_spectral")
+    path = build_tables(tmp_path, [ink])[ink]
+    lut = load_lut(path)
+    for paper in (1.0, 0.9):
+        assert directional_albedo(lut, paper).max() <= 1.0 + 1e-9
+        bsdf = ink_bsdf(mi, path, paper=paper)
+        lam = np.random.default_rng(5).uniform(360.0, 830.0, size=(4, 1 << 15))
+        for deg in (0.0, 45.0, 85.0):
+            mean, err = sampled_albedo(mi, bsdf, deg, lam)
+            assert mean <= 1.0 + 4.5 * err + 1e-4
+            assert mean > 0.05
