@@ -47,3 +47,13 @@ def test_symmetrize_leaves_reciprocal_input_unchanged():
     A = rng.uniform(0.0, 0.1, (POLAR.size, POLAR.size, DPHI.size))
     A = A + np.swapaxes(A, 0, 1)
     np.testing.assert_allclose(symmetrize_reciprocal(A, POLAR, DPHI), A, rtol=1e-10)
+
+
+def test_isotropize_normal_keeps_albedo_and_removes_azimuth_dependence():
+    from solver.table.reduce import isotropize_normal
+
+    rng = np.random.default_rng(4)
+    R = rng.uniform(0.0, 0.2, (2, POLAR.size, POLAR.size, DPHI.size))
+    S = isotropize_normal(R, POLAR, DPHI)
+    assert np.ptp(S[:, 0], axis=-1).max() < 1e-15 and np.ptp(S[:, :, 0], axis=-1).max() < 1e-15
+    np.testing.assert_allclose(diffuse_albedo(POLAR, DPHI, S), diffuse_albedo(POLAR, DPHI, R), rtol=1e-12)

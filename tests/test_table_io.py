@@ -68,3 +68,28 @@ def test_invalid_tables_are_refused_with_the_reason(tmp_path, table, change, mes
     with pytest.raises(TableError, match=message):
         write_table(tmp_path / "bad.npz", change(table))
     assert not list(tmp_path.iterdir())
+
+
+def _with_diffuse(table, R):
+    from solver.table.integrals import diffuse_albedo
+
+    rbar = table.R_spec + diffuse_albedo(table.theta, table.dphi, R)
+    return replace(table, R=R, Rbar=rbar, Rbar_below=rbar, Tbar=np.minimum(table.Tbar, 1 - rbar))
+
+
+def test_diffuse_table_must_be_reciprocal_and_azimuth_free_at_normal(tmp_path, table):
+    grid = table.sigma
+    shape = (table.wavelengths.size, grid.size, grid.size, 5)
+    base = replace(table, theta=grid.copy(), dphi=np.linspace(0, np.pi, 5))
+    good = 0.01 * np.ones(shape)
+    good[:, -1] = good[:, :, -1] = 0.0               # nothing scattered at grazing incidence
+    write_table(tmp_path / "good.npz", _with_diffuse(base, good))
+    tilted = good.copy()
+    tilted[:, 3, 5, :] += 0.01                       # R(σ3, θ5) ≠ R(θ5, σ3)
+    with pytest.raises(TableError, match="not reciprocal"):
+        write_table(tmp_path / "b1.npz", _with_diffuse(base, tilted))
+    azim = good.copy()
+    azim[:, 0, :, 0] += 0.01
+    azim[:, :, 0, 0] += 0.01                         # reciprocal, but Δφ-dependent at normal incidence
+    with pytest.raises(TableError, match="depends on Δφ at sigma = 0"):
+        write_table(tmp_path / "b2.npz", _with_diffuse(base, azim))

@@ -49,6 +49,17 @@ def spread_orders(theta_grid, dphi_grid, theta_o, dphi_o, power) -> np.ndarray:
     return np.divide(np.pi * out, w, out=np.zeros_like(out), where=w > 0)
 
 
+def isotropize_normal(R: np.ndarray, polar_rad, dphi_rad) -> np.ndarray:
+    """Average R[..., σ, θ, Δφ] over Δφ where σ = 0 or θ = 0: a normal direction has no azimuth
+    reference, so R cannot depend on Δφ there.  Δφ-weighted, so every albedo is unchanged."""
+    R = np.array(R, dtype=float)
+    u = azimuth_weights(dphi_rad)
+    if abs(float(np.asarray(polar_rad)[0])) < 1e-12:
+        for index in ((Ellipsis, 0, slice(None), slice(None)), (Ellipsis, slice(None), 0, slice(None))):
+            R[index] = (R[index] @ u / u.sum())[..., None]
+    return R
+
+
 def symmetrize_reciprocal(R: np.ndarray, polar_rad, dphi_rad, iterations: int = 200,
                           rtol: float = 1e-12) -> np.ndarray:
     """Make R[..., σ, θ, Δφ] reciprocal (symmetric in σ ↔ θ) keeping every row's albedo.

@@ -109,10 +109,21 @@ def validate(table: InkTable, where: str = "table") -> InkTable:
     for total, coherent in (("Rbar", "R_spec"), ("Tbar", "T_coh")):
         excess = float(np.max(table.column(coherent) - table.column(total)))
         _check(excess <= _ENERGY_TOL, where, f"'{coherent}' exceeds '{total}' by {excess:.3g}")
+    errors = meta.get("errors", {})
+    closure = _ENERGY_TOL * 10 + float(errors.get("energy_closure_max", 0.0))
     for total in ("Rbar", "Rbar_below"):
         over = float(np.max(table.column(total) + table.Tbar - 1.0))
-        _check(over <= _ENERGY_TOL * 10, where, f"'{total}' + 'Tbar' exceeds 1 by {over:.3g}")
-    tol = float(meta.get("errors", {}).get("energy_sum_tol", _DEFAULT_SUM_TOL))
+        _check(over <= closure, where, f"'{total}' + 'Tbar' exceeds 1 by {over:.3g}")
+    scale = max(1.0, float(np.max(table.R)))
+    for axis, grid in ((1, table.sigma), (2, table.theta)):     # no azimuth reference at a normal
+        normal = np.take(table.R, 0, axis=axis)
+        spread = float(np.max(np.ptp(normal, axis=-1)))
+        _check(spread <= 1e-9 * scale, where, f"'R' depends on Δφ at {('sigma', 'theta')[axis - 1]} = 0 "
+               f"(spread {spread:.3g}); a normal direction has no azimuth")
+    if table.theta.shape == table.sigma.shape and np.allclose(table.theta, table.sigma):
+        asym = float(np.max(np.abs(table.R - np.swapaxes(table.R, 1, 2))))
+        _check(asym <= 1e-9 * scale, where, f"'R' is not reciprocal: R(σ,θ) − R(θ,σ) up to {asym:.3g}")
+    tol = float(errors.get("energy_sum_tol", _DEFAULT_SUM_TOL))
     mismatch = np.abs(table.Rbar - table.R_spec - diffuse_albedo(table.theta, table.dphi, table.R))
     _check(float(mismatch.max()) <= tol, where,
            f"'Rbar' differs from R_spec + ∫R by {mismatch.max():.3g} (> {tol:.3g})")
