@@ -89,7 +89,7 @@ def test_diffuse_table_must_be_reciprocal_and_azimuth_free_at_normal(tmp_path, t
     with pytest.raises(TableError, match="not reciprocal"):
         write_table(tmp_path / "b1.npz", _with_diffuse(base, tilted))
     azim = good.copy()
-    azim[:, 0, :, 0] += 0.01
-    azim[:, :, 0, 0] += 0.01                         # reciprocal, but Δφ-dependent at normal incidence
+    azim[:, 0, :-1, 0] += 0.01
+    azim[:, :-1, 0, 0] += 0.01                       # reciprocal, but Δφ-dependent at normal incidence
     with pytest.raises(TableError, match="depends on Δφ at sigma = 0"):
         write_table(tmp_path / "b2.npz", _with_diffuse(base, azim))
