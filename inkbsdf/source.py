@@ -1,8 +1,8 @@
 """Where an `ink` BSDF gets its table: the one place that reads scene parameters into an InkLUT.
 
-Today a table file (`filename`, resolved like every Mitsuba asset: relative to the scene file,
-then Mitsuba's search path). A later `ink=`/`particles=` parameter (content-addressed cache)
-plugs in here as one more branch of `load_table`.
+Either a table file (`filename`, resolved like every Mitsuba asset: relative to the scene file,
+then Mitsuba's search path) or the ink itself (`ink`, `particles`, `thickness`, …), whose table
+comes from the content-addressed cache of `solver.table.builder`.
 """
 
 from __future__ import annotations
@@ -22,11 +22,43 @@ def resolve_path(filename: str) -> Path:
     return Path(str(resolved))
 
 
+#: Scene parameters of an in-scene ink (instead of `filename`) → TableRequest fields.
+REQUEST_PARAMS = {"ink": ("ink", str), "particles": ("particles", str),
+                  "thickness": ("thickness_nm", float), "realizations": ("realizations", int),
+                  "tolerance": ("tolerance", float), "seed": ("seed", int), "tier": ("tier", str)}
+
+
+def table_request(props):
+    """The TableRequest described by an `ink=...` BSDF (see REQUEST_PARAMS)."""
+    from solver.table.request import TableRequest
+
+    kwargs = {field: kind(props.get(name)) for name, (field, kind) in REQUEST_PARAMS.items() if name in props}
+    return TableRequest(**kwargs)
+
+
 def load_table(props) -> InkLUT:
-    """The table named by the BSDF's properties; raises TableError naming file and problem."""
+    """The table named by the BSDF's properties; raises TableError naming file and problem.
+
+    Either `filename` (a table file) or `ink` (+ optional particles, thickness, …): the table is
+    then taken from the content-addressed cache, computed first if missing (logged, with
+    progress; $INKBSDF_CACHE or the `cache` parameter names the cache directory).
+    """
+    if "filename" in props and "ink" in props:
+        raise TableError("ink BSDF: give either 'filename' or 'ink', not both")
+    if "ink" in props:
+        from solver.table.builder import BuildOptions, get_or_build
+        from solver.table.cache import TableCache
+
+        try:
+            request = table_request(props)
+        except ValueError as exc:
+            raise TableError(f"ink BSDF: {exc}") from None
+        cache = TableCache(Path(str(props.get("cache")))) if "cache" in props else TableCache.default()
+        _, path, _ = get_or_build(request, BuildOptions(cache=cache))
+        return load_lut(path)
     if "filename" not in props:
-        raise TableError("ink BSDF: the 'filename' parameter (an ink table .npz, built with "
-                         "`ink-tables build`) is required")
+        raise TableError("ink BSDF: needs 'filename' (an ink table .npz, built with `ink-tables build`) "
+                         "or 'ink' (e.g. 'Y7.5+B7.5', with optional 'particles', 'thickness')")
     filename = str(props.get("filename"))
     path = resolve_path(filename)
     if not path.is_file():

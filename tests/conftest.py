@@ -7,6 +7,20 @@ import pytest
 THICKNESS_NM = 1000.0
 
 
+@pytest.fixture(scope="session", autouse=True)
+def _private_table_cache(tmp_path_factory):
+    """Tests never read or write the user's table cache: $INKBSDF_CACHE → a session temp dir."""
+    import os
+
+    old = os.environ.get("INKBSDF_CACHE")
+    os.environ["INKBSDF_CACHE"] = str(tmp_path_factory.mktemp("inkbsdf_cache"))
+    yield
+    if old is None:
+        os.environ.pop("INKBSDF_CACHE", None)
+    else:
+        os.environ["INKBSDF_CACHE"] = old
+
+
 @pytest.fixture(scope="session")
 def ink_tables(tmp_path_factory):
     """{ink: path} of the demo inks' tables (built once per test session, ~0.1 s each)."""
