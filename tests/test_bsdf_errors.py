@@ -61,8 +61,22 @@ def test_wrong_version_table(use_variant, ink_tables, tmp_path):
 
 def test_missing_filename_parameter(use_variant):
     mi = use_variant("llvm_ad_spectral")
-    with pytest.raises(Exception, match="'filename' parameter"):
+    with pytest.raises(Exception, match="needs 'filename'.*or 'ink'"):
         mi.load_dict({"type": "ink"})
+
+
+def test_filename_and_ink_together_refused(use_variant, ink_tables):
+    mi = use_variant("llvm_ad_spectral")
+    with pytest.raises(Exception, match="either 'filename' or 'ink', not both"):
+        mi.load_dict({"type": "ink", "filename": str(ink_tables["R30"]), "ink": "R30"})
+
+
+def test_bad_in_scene_ink_names_the_problem(use_variant):
+    mi = use_variant("llvm_ad_spectral")
+    with pytest.raises(Exception, match="unknown pigment 'Q'"):
+        mi.load_dict({"type": "ink", "ink": "Q5"})
+    with pytest.raises(Exception, match="unknown particle shape|unknown shape|cube"):
+        mi.load_dict({"type": "ink", "ink": "R15", "particles": "cube:100"})
 
 
 @pytest.mark.parametrize("variant,needle", [("scalar_rgb", "spectral"), ("llvm_ad_mono", "spectral"),
