@@ -1,0 +1,187 @@
+"""Build a table for a request: pick the tier, run the work units (cached, resumable), reduce.
+
+    table, path = get_or_build(TableRequest("Y7.5+B7.5", particles="sphere:300"))
+
+Nothing is computed twice: finished tables come from the content-addressed cache; the units of
+an interrupted build (geometry per realization, solves per realization × λ, the tier probe)
+are stored as they finish and reused; the probe's full solves are ordinary units of the full
+tier, so they count toward the table when the full tier is chosen.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .. import __version__
+from ..inks import parse_ink
+from .cache import TableCache
+from .executor import run_units
+from .request import TableRequest
+from .schema import SCHEMA_VERSION, InkTable
+from .thinfilm_tier import build_thinfilm_table
+from . import tiers
+
+log = logging.getLogger("inkbsdf.tables")
+
+
+@dataclass(frozen=True)
+class BuildOptions:
+    workers: int = 1                     # local processes (1 = in this process)
+    scheduler: str | None = None         # Dask scheduler address: run the units there instead
+    progress: bool = True
+    cache: TableCache = field(default_factory=TableCache.default)
+
+
+@dataclass
+class _Timer:
+    stages: dict = field(default_factory=dict)
+
+    def add(self, stage: str, seconds: float) -> None:
+        self.stages[stage] = self.stages.get(stage, 0.0) + seconds
+
+
+def _voxels_to_arrays(vox) -> dict:
+    return {"fractions": vox.fractions, "materials": np.array(vox.materials),
+            "period_nm": np.asarray(vox.period_nm, float), "z_range_nm": np.asarray(vox.z_range_nm, float)}
+
+
+def _voxels_from_arrays(a: dict):
+    from ..geometry import VoxelFractions
+
+    return VoxelFractions(materials=tuple(str(m) for m in a["materials"]), fractions=a["fractions"],
+                          period_nm=tuple(a["period_nm"]), z_range_nm=tuple(a["z_range_nm"]))
+
+
+def _cached_units(request, opts, names, make_unit, fn, encode, decode, desc):
+    """Load the named parts that exist, compute the rest (in parallel), store each as it ends."""
+    cache = opts.cache
+    results = [None] * len(names)
+    todo = []
+    for i, name in enumerate(names):
+        part = cache.load_part(request, name)
+        if part is not None:
+            results[i] = decode(part)
+        else:
+            todo.append(i)
+    if todo:
+        log.info("%s: %d of %d units to compute (%d reused)", desc, len(todo), len(names), len(names) - len(todo))
+        store = lambda k, res: cache.store_part(request, names[todo[k]], encode(res))
+        fresh = run_units(fn, [make_unit(i) for i in todo], workers=opts.workers, scheduler=opts.scheduler,
+                          desc=desc, on_result=store, progress=opts.progress)
+        for k, i in enumerate(todo):
+            results[i] = fresh[k]
+    return results
+
+
+def _geometry(request, opts, timer):
+    from .wave_tier import GeometryUnit, geometry_unit
+
+    t0 = time.perf_counter()
+    out = _cached_units(request, opts, [f"geom_r{r}" for r in range(request.realizations)],
+                        lambda r: GeometryUnit(request, r), geometry_unit,
+                        _voxels_to_arrays, _voxels_from_arrays, "geometry")
+    timer.add("geometry", time.perf_counter() - t0)
+    return out
+
+
+def _solves(request, opts, timer, method, voxels, pairs):
+    """Solve units for (realization, λ index) pairs with the given method."""
+    from .wave_tier import SolveUnit, solve_unit
+
+    t0 = time.perf_counter()
+    out = _cached_units(request, opts, [f"{method}_r{r}_l{li}" for r, li in pairs],
+                        lambda k: SolveUnit(request, pairs[k][0], pairs[k][1], voxels[pairs[k][0]], method),
+                        solve_unit, lambda d: d, lambda d: d, f"solve ({method})")
+    timer.add("solve", time.perf_counter() - t0)
+    return out
+
+
+def _meta(request: TableRequest, tier: str, reason: str, timer: _Timer, extra: dict | None = None) -> dict:
+    from .wave_tier import realization_seed
+
+    meta = {
+        "schema_version": SCHEMA_VERSION, "ink": request.ink,
+        "pigments": [[c, f] for c, f in parse_ink(request.ink).components],
+        "particles": request.particles, "thickness_nm": request.thickness_nm,
+        "tier": tier, "tier_reason": reason, "cache_key": request.key(),
+        "generator": {"name": "inkbsdf.solver", "version": __version__},
+        "settings": request.numeric_fields(),
+        "seeds": [realization_seed(request, r) for r in range(request.realizations)],
+        "timings_s": timer.stages,
+    }
+    meta.update(extra or {})
+    return meta
+
+
+def build_table(request: TableRequest, opts: BuildOptions | None = None) -> InkTable:
+    """Compute the table of a request (no lookup of the finished table; parts are reused)."""
+    opts = opts or BuildOptions()
+    timer = _Timer()
+    ink = parse_ink(request.ink)
+    if request.molecular:
+        table = build_thinfilm_table(ink, request.thickness_nm, request.wavelengths_nm, request.sigma_rad)
+        table.meta.update(cache_key=request.key(), settings=request.numeric_fields())
+        return table
+    from .wave_tier import solved_sigma
+    from .wave_reduce import reduce_units
+
+    voxels = None
+    tier, report = request.tier, {}
+    if tier == "auto":
+        voxels = _geometry(request, opts, timer)
+        probe = tiers.probe_wavelength_indices(request)
+        t0 = time.perf_counter()
+        full = _solves(request, opts, timer, "full", voxels, [(0, li) for li in probe])
+        born = _solves(request, opts, timer, "born", voxels, [(0, li) for li in probe])
+        tier, report = tiers.choose(request, full, born, probe, solved_sigma(request))
+        timer.add("tier_probe", time.perf_counter() - t0)
+        log.info("tier for %s: %s (deviations from full solve: %s)", request.describe(), tier,
+                 {k: round(v, 5) for k, v in report["deviation"].items()})
+    reason = (f"measured: cheapest tier within tolerance {request.tolerance:g}" if report
+              else "requested explicitly")
+    if tier == "effective-medium":
+        film = build_thinfilm_table(ink, request.thickness_nm, request.wavelengths_nm, request.sigma_rad)
+        meta = _meta(request, tier, reason, timer, {"tier_probe": report, "errors": {
+            "model": report.get("deviation", {}).get("effective-medium"), "energy_sum_tol": 1e-9}})
+        meta["seeds"] = []
+        return InkTable(**{k: getattr(film, k) for k in ("wavelengths", "sigma", "theta", "dphi", "R", "R_spec",
+                                                          "T_coh", "Rbar", "Tbar", "Rbar_below")}, meta=meta)
+    if tier == "thin-film":
+        raise ValueError(f"the thin-film tier is for molecular inks; {request.particles} has particles "
+                         "(use tier 'effective-medium' for the mean-ε film)")
+    if voxels is None:
+        voxels = _geometry(request, opts, timer)
+    method = "born" if tier == "born" else "full"
+    pairs = [(r, li) for r in range(request.realizations) for li in range(len(request.wavelengths_nm))]
+    flat = _solves(request, opts, timer, method, voxels, pairs)
+    units = [[flat[r * len(request.wavelengths_nm) + li] for li in range(len(request.wavelengths_nm))]
+             for r in range(request.realizations)]
+    t0 = time.perf_counter()
+    meta = _meta(request, tier, reason, timer, {"tier_probe": report})
+    table = reduce_units(request, units, meta)
+    timer.add("reduce", time.perf_counter() - t0)
+    return table
+
+
+def get_or_build(request: TableRequest, opts: BuildOptions | None = None) -> tuple[InkTable, str, bool]:
+    """The cached table for the request, building (and caching) it when missing.
+
+    Returns (table, path, built) — built is False on a cache hit (nothing computed)."""
+    opts = opts or BuildOptions()
+    table = opts.cache.load(request)
+    if table is None:
+        with opts.cache.lock(request):          # one builder per table, across threads and processes
+            table = opts.cache.load(request)    # built meanwhile by whoever held the lock?
+            if table is None:
+                log.warning("computing table: %s", request.describe())
+                t0 = time.perf_counter()
+                table = build_table(request, opts)
+                path = opts.cache.store(request, table)
+                log.warning("table ready in %.1f s: %s", time.perf_counter() - t0, path)
+                return table, str(path), True
+    log.info("cache hit for %s", request.describe())
+    return table, str(opts.cache.table_path(request)), False

@@ -1,0 +1,193 @@
+"""Particle-ink tables from the wave solver: equal to direct solves, energy, reciprocity,
+the molecular limit, the cache (hit, resume after a kill, one build per ink), workers and Dask."""
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from solver.geometry import VoxelFractions, eps_grid
+from solver.inks import parse_ink
+from solver.table import read_table
+from solver.table.builder import BuildOptions, build_table, get_or_build
+from solver.table.cache import TableCache
+from solver.table.integrals import diffuse_albedo
+from solver.table.request import TableRequest
+from solver.table.thinfilm_tier import build_thinfilm_table
+from solver.table.wave_reduce import reduce_units
+from solver.table.wave_tier import GeometryUnit, SolveUnit, azimuths, geometry_unit, solve_unit
+from solver.wave import Cell, Incidence, solve
+
+COLUMNS = ("R", "R_spec", "T_coh", "Rbar", "Tbar", "Rbar_below")
+
+
+def small(**kw) -> TableRequest:
+    base = dict(ink="Y7.5+B7.5", particles="sphere:300", wavelengths_nm=(450.0, 700.0),
+                sigma_rad=tuple(np.radians([0.0, 40.0, 90.0])), grid=(16, 16, 8), realizations=2,
+                azimuths=1, dphi_count=7, tier="full")
+    base.update(kw)
+    return TableRequest(**base)
+
+
+def opts(tmp_path, **kw) -> BuildOptions:
+    return BuildOptions(progress=False, cache=TableCache(tmp_path / "cache"), **kw)
+
+
+@pytest.fixture(scope="module")
+def table_and_request(tmp_path_factory):
+    req = small()
+    return build_table(req, opts(tmp_path_factory.mktemp("t"))), req
+
+
+def test_small_table_equals_direct_solves(tmp_path):
+    req = small(realizations=1)
+    table = build_table(req, opts(tmp_path))
+    vox = geometry_unit(GeometryUnit(req, 0))
+    phi = azimuths(req, 0)[0]
+    for li, wl in enumerate(req.wavelengths_nm):
+        cell = Cell(eps_grid(vox, wl), vox.period_nm, vox.z_range_nm)
+        for si, sigma in enumerate(req.sigma_rad[:-1]):
+            direct = solve(cell, Incidence(wl, sigma, phi), tol=req.solver_tol)
+            assert table.Rbar[li, si] == pytest.approx(direct.R, abs=1e-9)
+            assert table.Tbar[li, si] == pytest.approx(direct.T, abs=1e-9)
+            assert table.R_spec[li, si] == pytest.approx(direct.R_spec, abs=1e-9)   # one sample: coherent = |α00|²
+            assert table.T_coh[li, si] == pytest.approx(direct.T_coh, abs=1e-9)
+
+
+def test_energy_closure_and_lossless_wavelength(table_and_request):
+    table, req = table_and_request
+    # Y and B absorb little at 700 nm but B does; the totals never exceed 1 and the table's own
+    # closure (from ∫ Im ε |u|²) is reported
+    assert table.meta["errors"]["energy_closure_max"] < 1e-3
+    np.testing.assert_allclose(table.Rbar, table.R_spec + diffuse_albedo(table.theta, table.dphi, table.R),
+                               atol=1e-12)
+    assert np.all(table.Rbar + table.Tbar <= 1 + 1e-3)
+
+
+def test_lossless_particles_conserve_energy(tmp_path):
+    # F8BT (Y) is transparent at 650–700 nm: a lossless particle layer, R + T = 1.  (The scheme
+    # sees the background's fictitious loss only through an O(h⁴) z-term: nz = 16 keeps it < 2e-4.)
+    table = build_table(small(ink="Y30", wavelengths_nm=(680.0, 700.0), realizations=1, grid=(16, 16, 16)),
+                        opts(tmp_path))
+    np.testing.assert_allclose((table.Rbar + table.Tbar)[:, :-1], 1.0, atol=2e-3)
+
+
+def test_reciprocity_after_symmetrisation(table_and_request):
+    table, _ = table_and_request
+    np.testing.assert_allclose(table.R, np.swapaxes(table.R, 1, 2), atol=1e-15)
+    assert table.has_diffuse and np.all(table.R >= 0)
+
+
+def test_molecular_ink_through_the_wave_path_equals_the_exact_tier():
+    """A homogeneous voxel grid (the molecular mix) through solve_unit + reduce = the thin film."""
+    req = small(ink="R15", realizations=1, wavelengths_nm=(450.0, 530.0))
+    ink = parse_ink(req.ink)
+    nx, ny, nz = req.grid
+    fractions = np.zeros((3, nx, ny, nz), np.float32)
+    fractions[0], fractions[2] = 1.0 - ink.total_fraction, ink.total_fraction
+    vox = VoxelFractions(("binder", "air", "R"), fractions, (req.cell_nm, req.cell_nm), (0.0, req.thickness_nm))
+    units = [[solve_unit(SolveUnit(req, 0, li, vox)) for li in range(2)]]
+    table = reduce_units(req, units, {"schema_version": 1})
+    film = build_thinfilm_table(ink, req.thickness_nm, req.wavelengths_nm, req.sigma_rad)
+    for name in ("R_spec", "T_coh", "Rbar", "Tbar"):
+        np.testing.assert_allclose(getattr(table, name), getattr(film, name), atol=2e-4)
+    assert np.max(table.R) < 1e-6          # a homogeneous layer scatters nothing diffusely
+
+
+def test_molecular_request_is_the_exact_tier(tmp_path):
+    table, _, built = get_or_build(TableRequest("Y12.5+B2.5"), opts(tmp_path))
+    film = build_thinfilm_table(parse_ink("Y12.5+B2.5"), 1000.0, table.wavelengths, table.sigma)
+    assert built and table.meta["tier"] == "thin-film"
+    for name in COLUMNS:
+        np.testing.assert_array_equal(getattr(table, name), getattr(film, name))
+
+
+def test_cache_hit_computes_nothing(tmp_path, monkeypatch):
+    o = opts(tmp_path)
+    req = small(realizations=1, wavelengths_nm=(500.0, 600.0))
+    first, path, built = get_or_build(req, o)
+    assert built
+    import solver.table.wave_tier as wt
+
+    def boom(*a, **k):
+        raise AssertionError("computed on a cache hit")
+
+    monkeypatch.setattr(wt, "solve_unit", boom)
+    monkeypatch.setattr(wt, "geometry_unit", boom)
+    again, path2, built2 = get_or_build(req, o)
+    assert not built2 and path2 == path
+    for name in COLUMNS:
+        np.testing.assert_array_equal(getattr(again, name), getattr(first, name))
+
+
+def test_tier_choice_is_measured_and_recorded(tmp_path):
+    # 300-nm grains are far from the effective medium: the probe must see it
+    table = build_table(small(tier="auto", realizations=1), opts(tmp_path))
+    probe = table.meta["tier_probe"]
+    assert table.meta["tier"] in ("born", "full")
+    assert probe["deviation"]["effective-medium"] > probe["tolerance"]
+    # tiny, dilute grains: the mean-ε film is within tolerance and no table solve is run
+    tiny = build_table(small(tier="auto", particles="sphere:30", ink="Y5", realizations=1,
+                             tolerance=0.02), opts(tmp_path))
+    assert tiny.meta["tier"] == "effective-medium", tiny.meta["tier_probe"]
+    assert tiny.meta["tier_probe"]["deviation"]["effective-medium"] <= 0.02
+
+
+def test_identical_for_any_number_of_workers_and_on_dask(tmp_path):
+    from distributed import LocalCluster
+
+    req = small(azimuths=2)
+    serial = build_table(req, opts(tmp_path / "a"))
+    pool = build_table(req, opts(tmp_path / "b", workers=2))
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+        dask = build_table(req, opts(tmp_path / "c", scheduler=cluster.scheduler_address))
+    for other in (pool, dask):
+        for name in COLUMNS:
+            np.testing.assert_array_equal(getattr(other, name), getattr(serial, name))
+
+
+def test_killed_build_resumes_from_finished_units(tmp_path):
+    cache = tmp_path / "cache"
+    args = [sys.executable, "-m", "solver.cli", "-v", "build", "--ink", "Y7.5+B7.5", "--particles", "sphere:300",
+            "--wavelengths", "400:700:20", "--angles", "4", "--grid", "24", "24", "12", "--realizations", "1",
+            "--azimuths", "2", "--tier", "full", "--cache", str(cache), "--no-progress", "-o", str(tmp_path / "t.npz")]
+    proc = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    parts = lambda: sorted(cache.glob("parts/*/full_*.npz"))
+    deadline = time.time() + 120
+    while len(parts()) < 3 and time.time() < deadline and proc.poll() is None:
+        time.sleep(0.02)
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    done = len(parts())
+    assert 3 <= done < 16, f"the kill must land mid-build ({done} of 16 units finished)"
+    res = subprocess.run(args, capture_output=True, text=True)
+    assert res.returncode == 0, res.stderr
+    assert f"solve (full): {16 - done} of 16 units to compute ({done} reused)" in res.stderr, res.stderr
+    assert "geometry: " not in res.stderr            # the realization's voxels were reused too
+    resumed = read_table(tmp_path / "t.npz")
+    fresh = build_table(TableRequest("Y7.5+B7.5", particles="sphere:300",
+                                     wavelengths_nm=tuple(np.arange(400.0, 701.0, 20.0)),
+                                     sigma_rad=tuple(np.linspace(0, np.pi / 2, 4)), grid=(24, 24, 12),
+                                     realizations=1, azimuths=2, tier="full"), opts(tmp_path / "fresh"))
+    for name in COLUMNS:
+        np.testing.assert_array_equal(getattr(resumed, name), getattr(fresh, name))
+    assert not list(cache.glob("parts/*/*.npz"))      # a finished build clears its parts
+
+
+def test_scene_naming_two_inks_builds_exactly_two_tables(tmp_path, use_variant, caplog):
+    import logging
+
+    mi = use_variant("llvm_ad_spectral")
+    cache = tmp_path / "scene_cache"
+    ink = lambda spec, **kw: {"type": "ink", "ink": spec, "cache": str(cache), **kw}
+    rect = lambda x, bsdf: {"type": "rectangle", "to_world": mi.ScalarTransform4f().translate([x, 0, 0]), "bsdf": bsdf}
+    with caplog.at_level(logging.WARNING, logger="inkbsdf.tables"):
+        mi.load_dict({"type": "scene", "a": rect(-3, ink("R30")), "b": rect(0, ink("G30")),
+                      "c": rect(3, ink("G30", coverage=0.5)), "d": rect(6, ink("R30", paper=0.8))})
+    assert len(list((cache / "tables").glob("*.npz"))) == 2
+    assert sum("computing table" in r.message for r in caplog.records) == 2
