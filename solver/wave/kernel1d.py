@@ -1,0 +1,200 @@
+"""Analytic Green's function of the layered background, one lateral harmonic at a time.
+
+Background: half-space ε_a above (z < 0), a homogeneous slab ε_b over 0 ≤ z ≤ H, half-space ε_c
+below (z > H); z is measured from the top face of the grid, in nm.  For the lateral harmonic
+(kx, ky) the 1-D Green's function of u'' + κ(z)² u = −δ(z − z′) with outgoing/decaying waves on
+both sides is, for 0 ≤ z, z′ ≤ H (κ = √(k0²ε_b − kt²), Im κ > 0):
+
+    g(z, z′) = P·[E1 + r_t·E2 + r_b·E3 + r_t·r_b·E4],   P = i / (2κ·D),  D = 1 − r_t r_b e^{2iκH}
+    E1 = e^{iκ|z−z′|}, E2 = e^{iκ(z+z′)}, E3 = e^{iκ(2H−z−z′)}, E4 = e^{iκ(2H−|z−z′|)}
+    r_t = (κ − k_a)/(κ + k_a),   r_b = (κ − k_c)/(κ + k_c)   (internal reflection coefficients)
+
+Every exponent has a non-negative argument, so every factor decays for evanescent harmonics;
+they are all taken from a table e^{iκjh}, j = 0…2nz, times e^{±iκs} inside a cell.  At a Wood
+anomaly (k_a = 0 or k_c = 0) r = 1: nothing divides by k_z.
+
+z-discretisation: nz uniform cells of height h = H/nz, nb = 1 or 2 Legendre functions per cell
+(zbasis.py).  The Galerkin matrix M^{pq}_{kl} = (1/h)∫_k∫_l φ_p g φ_q is Toeplitz (E1, E4) plus
+Hankel (E2, E3) in the cell indices; circulant_kernels returns both as circulant embeddings of
+length 2nz (circulant_blocks), applied by FFT (operator.py).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Iterator
+
+import numpy as np
+
+from .zbasis import diag_galerkin, diag_point, diag_point_reflected, sign, single_integrals
+
+
+def vertical_wavenumber(k0sq_eps: complex, kt2: np.ndarray) -> np.ndarray:
+    """k_z = √(k0²ε − kt²) with Im k_z ≥ 0 (and Re k_z ≥ 0 when real), in 1/nm.
+
+    Values within 1e-12·k0²|ε| of the light line are snapped to exactly 0 (Wood anomaly).
+    """
+    arg = k0sq_eps - np.asarray(kt2, dtype=float)
+    arg = np.where(np.abs(arg) <= 1e-12 * abs(k0sq_eps), 0.0, arg).astype(complex)
+    kz = np.sqrt(arg)
+    flip = (kz.imag < 0) | ((kz.imag == 0) & (kz.real < 0))
+    return np.where(flip, -kz, kz)
+
+
+@dataclass(frozen=True, eq=False)
+class SlabGreen:
+    """Per-harmonic constants of the layered Green's function; arrays of the lateral shape.
+
+    kappa: κ in the slab; k_above, k_below: k_z in the half-spaces (1/nm); r_top, r_bottom:
+    internal reflection coefficients; denom: D; thickness_nm: H; nz cells; nb functions per cell.
+    """
+
+    kappa: np.ndarray
+    k_above: np.ndarray
+    k_below: np.ndarray
+    r_top: np.ndarray
+    r_bottom: np.ndarray
+    denom: np.ndarray
+    thickness_nm: float
+    nz: int
+    nb: int
+
+    @property
+    def h_nm(self) -> float:
+        return self.thickness_nm / self.nz
+
+    @property
+    def prefactor(self) -> np.ndarray:
+        """P = i/(2κD) in nm."""
+        return 1j / (2 * self.kappa * self.denom)
+
+    def exp_table(self) -> np.ndarray:
+        """e^{iκjh} for j = 0 … 2nz along a new last axis (every |·| ≤ 1)."""
+        return np.exp(1j * self.kappa[..., None] * (self.h_nm * np.arange(2 * self.nz + 1)))
+
+
+def slab_green(kappa: np.ndarray, k_above: np.ndarray, k_below: np.ndarray,
+               thickness_nm: float, nz: int, nb: int = 2) -> SlabGreen:
+    """Reflection coefficients and the resonance denominator D for every harmonic."""
+    if np.any(kappa.imag <= 0):
+        raise ValueError("the background slab needs Im κ > 0 for every harmonic (Im ε_b > 0)")
+    if nb not in (1, 2):
+        raise ValueError("nb (functions per z-cell) must be 1 or 2")
+    rt = (kappa - k_above) / (kappa + k_above)
+    rb = (kappa - k_below) / (kappa + k_below)
+    denom = 1 - rt * rb * np.exp(2j * kappa * thickness_nm)
+    return SlabGreen(kappa, k_above, k_below, rt, rb, denom, float(thickness_nm), int(nz), nb)
+
+
+def circulant_blocks(sg: SlabGreen, offset_nm: float | None = None
+                     ) -> Iterator[tuple[int, int, np.ndarray, np.ndarray]]:
+    """Circulant embeddings of the Toeplitz and Hankel parts, one (p, q) block at a time.
+
+    Yields (p, q, toe, han) with arrays of shape (..., 2nz) (lateral axes in "...").
+    offset_nm None: Galerkin moments of the field (p = 0 … nb−1 test functions per cell).
+    offset_nm s ∈ [0, h]: the field at the points z = k·h + s (p = 0 only).
+    y[p, k] = Σ_{q,l} toe_pq[(k−l) mod 2nz]·f[q, l] + han_pq[k+l]·f[q, l].
+    Entries: toe[d] for d = k − l = 1 … nz−1 at index d, for d = −1 … −(nz−1) at 2nz − |d|;
+    han[σ] for σ = k + l = 0 … 2nz−2.  All table look-ups below are slices (views).
+    """
+    nz, nb, h = sg.nz, sg.nb, sg.h_nm
+    rt, rb = sg.r_top[..., None], sg.r_bottom[..., None]
+    rtrb = rt * rb
+    tab = sg.exp_table()
+    x = 1j * sg.kappa * h
+    integ = single_integrals(x, nb)
+    ph = (sg.prefactor * h)[..., None]
+    shape = sg.kappa.shape + (2 * nz,)
+    # e^{iκjh} for the offsets that occur, as views of the table, indexed by d = 1 … nz−1
+    e_dm1 = tab[..., 0:nz - 1]                    # j = d − 1
+    e_d = tab[..., 1:nz]                          # j = d
+    e_far = tab[..., nz:2 * nz - 1][..., ::-1]    # j = 2nz − d − 1
+    e_far0 = tab[..., nz + 1:2 * nz][..., ::-1]   # j = 2nz − d
+    e_sig = tab[..., 0:2 * nz - 1]                # j = σ, σ = 0 … 2nz−2
+    e_sig_far = tab[..., 1:2 * nz][..., ::-1]     # j = 2nz − σ − 1
+    if offset_nm is None:
+        e_sig_far2 = tab[..., 0:2 * nz - 1][..., ::-1]   # j = 2nz − σ − 2
+        for p in range(nb):
+            for q in range(nb):
+                toe = np.zeros(shape, dtype=complex)
+                han = np.zeros(shape, dtype=complex)
+                w = ph * (integ[p] * integ[q])[..., None]
+                sp, sq = sign(p), sign(q)
+                toe[..., 1:nz] = w * (sq * e_dm1 + (rtrb * sp) * e_far)
+                toe[..., nz + 1:] = (w * (sp * e_dm1 + (rtrb * sq) * e_far))[..., ::-1]
+                direct = diag_galerkin(p, q, x, np.ones_like(x), tab[..., 1])
+                bounced = diag_galerkin(p, q, -x, tab[..., 2 * nz], tab[..., 2 * nz - 1])
+                toe[..., 0] = ph[..., 0] * (direct + rtrb[..., 0] * bounced)
+                han[..., :-1] = w * (rt * e_sig + (rb * sp * sq) * e_sig_far2)
+                yield p, q, toe, han
+        return
+    s = float(offset_nm)
+    if not 0.0 <= s <= h * (1 + 1e-12):
+        raise ValueError(f"offset_nm must lie in [0, h={h}], got {s}")
+    tau = min(s / h, 1.0)
+    ep, em = np.exp(1j * sg.kappa * s)[..., None], np.exp(-1j * sg.kappa * s)[..., None]
+    for q in range(nb):
+        toe = np.zeros(shape, dtype=complex)
+        han = np.zeros(shape, dtype=complex)
+        w = ph * integ[q][..., None]
+        sq = sign(q)
+        toe[..., 1:nz] = w * ((sq * ep) * e_dm1 + (rtrb * em) * e_far0)            # k > l
+        toe[..., nz + 1:] = (w * (em * e_d + (rtrb * sq * ep) * e_far))[..., ::-1]  # k < l
+        lq, rq = diag_point(q, tau, x)
+        lr, rr = diag_point_reflected(q, tau, x)
+        toe[..., 0] = ph[..., 0] * (lq + rq + rtrb[..., 0] * (
+            tab[..., 2 * nz] * em[..., 0] * lr + tab[..., 2 * nz - 1] * ep[..., 0] * rr))
+        han[..., :-1] = w * ((rt * ep) * e_sig + (rb * sq * em) * e_sig_far)
+        yield 0, q, toe, han
+
+
+def face_profiles(sg: SlabGreen, offset_nm: float | None = None
+                  ) -> tuple[np.ndarray, np.ndarray]:
+    """Moments (offset None; shape (nb, ..., nz)) or point values at z = k·h + s (shape
+    (1, ..., nz)) of the two face profiles
+
+        p_top(z) = e^{iκz} + r_b e^{iκ(2H−z)},   p_bot(z) = e^{iκ(H−z)} + r_t e^{iκ(H+z)}.
+
+    g(0, z) = i·p_top(z)/((κ + k_a)D) and g(H, z) = i·p_bot(z)/((κ + k_c)D); the background field
+    of a unit wave from above (below) is 2k_a/((κ+k_a)D)·p_top (2k_c/((κ+k_c)D)·p_bot).
+    """
+    nz, nb = sg.nz, sg.nb
+    rt, rb = sg.r_top[..., None], sg.r_bottom[..., None]
+    tab = sg.exp_table()
+    k = np.arange(nz)
+    if offset_nm is None:
+        integ = single_integrals(1j * sg.kappa * sg.h_nm, nb)
+        ptop = np.stack([integ[q][..., None]
+                         * (tab[..., k] + rb * sign(q) * tab[..., 2 * nz - k - 1])
+                         for q in range(nb)])
+        pbot = np.stack([integ[q][..., None]
+                         * (sign(q) * tab[..., nz - k - 1] + rt * tab[..., nz + k])
+                         for q in range(nb)])
+        return ptop, pbot
+    s = float(offset_nm)
+    ep, em = np.exp(1j * sg.kappa * s)[..., None], np.exp(-1j * sg.kappa * s)[..., None]
+    ptop = tab[..., k] * ep + rb * tab[..., 2 * nz - k] * em
+    pbot = tab[..., nz - k] * em + rt * tab[..., nz + k] * ep
+    return ptop[None], pbot[None]
+
+
+def face_weights(sg: SlabGreen) -> tuple[np.ndarray, np.ndarray]:
+    """c_top = i·h/((κ + k_a)D), c_bot = i·h/((κ + k_c)D) in nm: for a source with moments f,
+    u_s(0) = c_top·Σ_{q,l} p_top[q, l]·f[q, l] and u_s(H) = c_bot·Σ p_bot[q, l]·f[q, l]."""
+    h = sg.h_nm
+    return (1j * h / ((sg.kappa + sg.k_above) * sg.denom),
+            1j * h / ((sg.kappa + sg.k_below) * sg.denom))
+
+
+def background_amplitudes(sg: SlabGreen, from_below: bool
+                          ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Exact (Airy) response of the background to a unit plane wave, per harmonic.
+
+    Returns (coef, reflected, transmitted): the slab field is coef·p_top (from above) or
+    coef·p_bot (from below); reflected/transmitted are the outgoing amplitudes on the face of
+    entry / exit.
+    """
+    kap, rt, rb, big_h = sg.kappa, sg.r_top, sg.r_bottom, sg.thickness_nm
+    e1 = np.exp(1j * kap * big_h)
+    k_in, r_far = (sg.k_below, rt) if from_below else (sg.k_above, rb)
+    coef = 2 * k_in / ((kap + k_in) * sg.denom)
+    return coef, coef * (1 + r_far * e1 * e1) - 1, coef * e1 * (1 + r_far)
