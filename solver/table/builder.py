@@ -88,15 +88,15 @@ def _geometry(request, opts, timer):
     return out
 
 
-def _solves(request, opts, timer, method, voxels, pairs):
-    """Solve units for (realization, λ index) pairs with the given method."""
+def _solves(request, opts, timer, method, voxels, pairs, stage="solve"):
+    """Solve units for (realization, λ index) pairs with the given method (timed as `stage`)."""
     from .wave_tier import SolveUnit, solve_unit
 
     t0 = time.perf_counter()
     out = _cached_units(request, opts, [f"{method}_r{r}_l{li}" for r, li in pairs],
                         lambda k: SolveUnit(request, pairs[k][0], pairs[k][1], voxels[pairs[k][0]], method),
                         solve_unit, lambda d: d, lambda d: d, f"solve ({method})")
-    timer.add("solve", time.perf_counter() - t0)
+    timer.add(stage, time.perf_counter() - t0)
     return out
 
 
@@ -134,11 +134,9 @@ def build_table(request: TableRequest, opts: BuildOptions | None = None) -> InkT
     if tier == "auto":
         voxels = _geometry(request, opts, timer)
         probe = tiers.probe_wavelength_indices(request)
-        t0 = time.perf_counter()
-        full = _solves(request, opts, timer, "full", voxels, [(0, li) for li in probe])
-        born = _solves(request, opts, timer, "born", voxels, [(0, li) for li in probe])
+        full = _solves(request, opts, timer, "full", voxels, [(0, li) for li in probe], "tier_probe")
+        born = _solves(request, opts, timer, "born", voxels, [(0, li) for li in probe], "tier_probe")
         tier, report = tiers.choose(request, full, born, probe, solved_sigma(request))
-        timer.add("tier_probe", time.perf_counter() - t0)
         log.info("tier for %s: %s (deviations from full solve: %s)", request.describe(), tier,
                  {k: round(v, 5) for k, v in report["deviation"].items()})
     reason = (f"measured: cheapest tier within tolerance {request.tolerance:g}" if report

@@ -1,0 +1,189 @@
+"""Table pipeline: one particle-ink table at default accuracy, and what each knob costs.
+
+    python -m benchmarks.bench_tables            # everything (~20–25 min on 2 cores)
+    python -m benchmarks.bench_tables --quick    # knob curves only (~5 min)
+
+1. The default table (issue target: 21 wavelengths × 8 incidence angles in ≤ 15 min on this
+   2-core machine): Y7.5+B7.5, 300-nm spheres, seconds per stage (geometry, tier probe, solve,
+   reduce) and the table's error estimates.
+2. Accuracy-vs-time curves of the table knobs, each against a reference computed here:
+   realizations (standard error of Rbar, Tbar, R_spec and the diffuse BRDF), grid resolution
+   (deviation from a 128×128×64 reference), the wavelength step (CIELAB ΔE of the ink on paper
+   vs 1-nm sampling, thin film) and the number of incidence angles (interpolation error of the
+   directional albedo, thin film).  Numbers on stdout, plot in out/bench/tables_accuracy_time.png.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+from solver.colour import reflectance_to_xyz, xyz_to_lab
+from solver.inks import parse_ink
+from solver.table.builder import BuildOptions, build_table
+from solver.table.cache import TableCache
+from solver.table.evaluate import directional_albedo
+from solver.table.request import TableRequest
+from solver.table.thinfilm_tier import build_thinfilm_table
+from solver.table.wave_tier import GeometryUnit, SolveUnit, geometry_unit, solve_unit
+
+OUT = Path("out/bench")
+INK, PARTICLES = "Y7.5+B7.5", "sphere:300"
+
+
+def _options(workers: int = 1) -> BuildOptions:
+    return BuildOptions(workers=workers, progress=True, cache=TableCache(Path(tempfile.mkdtemp(prefix="bench_"))))
+
+
+def default_table(workers: int) -> None:
+    req = TableRequest(INK, particles=PARTICLES)
+    print(f"default table: {req.describe()}, tier auto, {workers} worker(s)")
+    t0 = time.perf_counter()
+    table = build_table(req, _options(workers))
+    total = time.perf_counter() - t0
+    meta = table.meta
+    print(f"  total {total:.0f} s ({total / 60:.1f} min; target ≤ 15 min)  tier {meta['tier']}")
+    print("  stages (s): " + ", ".join(f"{k} {v:.1f}" for k, v in meta["timings_s"].items()))
+    print("  tier probe deviations from the full solve: "
+          + ", ".join(f"{k} {v:.4f}" for k, v in meta["tier_probe"].get("deviation", {}).items()))
+    print("  error estimates: " + ", ".join(f"{k} {v:.2g}" for k, v in meta["errors"].items()))
+    print(f"  solver: {meta['solver_stats']}")
+
+
+def _unit_summary(req: TableRequest, realization: int, wavelength_index: int) -> tuple[np.ndarray, float]:
+    """Azimuth-mean (Rbar, Tbar, |α00|²) per σ of one realization at one λ, and its seconds."""
+    t0 = time.perf_counter()
+    vox = geometry_unit(GeometryUnit(req, realization))
+    u = solve_unit(SolveUnit(req, realization, wavelength_index, vox))
+    vals = np.stack([u["Rbar"].mean(-1), u["Tbar"].mean(-1), (np.abs(u["alpha00"]) ** 2).mean(-1)])
+    return vals, time.perf_counter() - t0
+
+
+def realizations_curve(wavelengths=(450.0, 550.0, 650.0), max_n: int = 8) -> list[tuple]:
+    """Standard error of the table columns vs the number of realizations (and its cost)."""
+    req = TableRequest(INK, particles=PARTICLES, wavelengths_nm=wavelengths, realizations=max_n,
+                       sigma_rad=tuple(np.radians([0, 30, 60, 90])))
+    samples, seconds = [], []
+    for r in range(max_n):
+        per_l = [_unit_summary(req, r, li) for li in range(len(wavelengths))]
+        samples.append(np.stack([v for v, _ in per_l]))
+        seconds.append(sum(s for _, s in per_l))
+    samples = np.asarray(samples)                      # [N, λ, quantity, σ]
+    spread = samples.std(axis=0, ddof=1)
+    print("realizations knob (Y7.5+B7.5 300 nm, 3 λ × 3 σ, 2 azimuths; SE = σ_sample/√N):")
+    rows = []
+    for n in (1, 2, 4, 8):
+        if n > max_n:
+            break
+        se = float(np.max(spread / np.sqrt(n)))
+        cost = float(np.mean(seconds) * n) * 21 / len(wavelengths) * 7 / 3
+        rows.append((n, se, cost))
+        print(f"  N={n}: max SE {se:.4f}   estimated full-table solve time {cost / 60:.1f} min")
+    return rows
+
+
+def grid_curve(wavelengths=(450.0, 650.0)) -> list[tuple]:
+    """Deviation of one realization's columns from a 128×128×64 reference vs the grid's cost."""
+    grids = [(32, 32, 16), (48, 48, 24), (64, 64, 32), (96, 96, 48), (128, 128, 64)]
+    results = {}
+    for g in grids:
+        req = TableRequest(INK, particles=PARTICLES, wavelengths_nm=wavelengths, grid=g, realizations=1,
+                           azimuths=1, sigma_rad=tuple(np.radians([0, 45, 90])))
+        per_l = [_unit_summary(req, 0, li) for li in range(len(wavelengths))]
+        results[g] = (np.stack([v for v, _ in per_l]), sum(s for _, s in per_l))
+    ref = results[grids[-1]][0]
+    print("grid knob (same realization, 2 λ × 2 σ; deviation in Rbar, Tbar, R_spec from 128×128×64):")
+    rows = []
+    for g in grids[:-1]:
+        err = float(np.max(np.abs(results[g][0] - ref)))
+        rows.append((g, err, results[g][1]))
+        print(f"  {g[0]}×{g[1]}×{g[2]}: max deviation {err:.4f}   {results[g][1]:.1f} s for 4 solves")
+    return rows
+
+
+def wavelength_step_curve(ink: str = "G30") -> list[tuple]:
+    """CIELAB ΔE of the ink on paper (diffuse light, 0° view) vs the table's wavelength step."""
+    sigma = np.linspace(0, np.pi / 2, 46)
+
+    def lab(step):
+        wl = np.arange(380.0, 780.0 + 0.5, step)
+        t0 = time.perf_counter()
+        table = build_thinfilm_table(parse_ink(ink), 1000.0, wl, sigma)
+        seconds = time.perf_counter() - t0
+        refl = directional_albedo(table, 0.9, 0.0)
+        return xyz_to_lab(reflectance_to_xyz(wl, refl)), seconds
+
+    ref, _ = lab(1.0)
+    print(f"wavelength-step knob ({ink} thin film on paper r=0.9, ΔE*ab vs 1-nm sampling):")
+    rows = []
+    for step in (5.0, 10.0, 20.0, 40.0):
+        value, seconds = lab(step)
+        de = float(np.linalg.norm(value - ref))
+        rows.append((step, de, seconds))
+        print(f"  {step:>4.0f} nm: ΔE {de:.2f}   ({int(400 / step) + 1} wavelengths)")
+    return rows
+
+
+def angle_count_curve(ink: str = "B30") -> list[tuple]:
+    """Error of the interpolated directional albedo between nodes vs the number of σ nodes."""
+    wl = np.arange(380.0, 781.0, 20.0)
+    probe = np.radians(np.linspace(0.5, 89.5, 179))
+    exact = build_thinfilm_table(parse_ink(ink), 1000.0, wl, np.concatenate([probe, [np.pi / 2]]))
+    ref = directional_albedo(exact, 0.9, probe)
+    print(f"incidence-angle knob ({ink} thin film, max error of the interpolated albedo over 0–89.5°):")
+    rows = []
+    for n in (5, 8, 12, 24, 46):
+        table = build_thinfilm_table(parse_ink(ink), 1000.0, wl, np.linspace(0, np.pi / 2, n))
+        err = float(np.max(np.abs(directional_albedo(table, 0.9, probe) - ref)))
+        rows.append((n, err, n))
+        print(f"  {n:>2} angles: max error {err:.4f}")
+    return rows
+
+
+def plot(curves: dict) -> None:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    OUT.mkdir(parents=True, exist_ok=True)
+    fig, axes = plt.subplots(1, 4, figsize=(16, 3.8))
+    specs = [("realizations", "estimated table solve time (s)", "max standard error", lambda r: (r[2], r[1], f"N={r[0]}")),
+             ("grid", "seconds (4 solves)", "max deviation from 128×128×64", lambda r: (r[2], r[1], f"{r[0][0]}")),
+             ("wavelength step", "wavelengths in the table", "ΔE*ab vs 1 nm", lambda r: (400 / r[0] + 1, r[1], f"{r[0]:.0f} nm")),
+             ("angles", "incidence angles (solves ∝)", "max albedo error", lambda r: (r[2], r[1], str(r[0])))]
+    for ax, (name, xl, yl, xy) in zip(axes, specs):
+        pts = [xy(r) for r in curves.get(name, [])]
+        if not pts:
+            ax.set_visible(False)
+            continue
+        ax.loglog([p[0] for p in pts], [p[1] for p in pts], "o-")
+        for x, y, lab in pts:
+            ax.annotate(lab, (x, y), textcoords="offset points", xytext=(4, 4), fontsize=8)
+        ax.set(title=name, xlabel=xl, ylabel=yl)
+        ax.grid(alpha=0.3, which="both")
+    fig.tight_layout()
+    path = OUT / "tables_accuracy_time.png"
+    fig.savefig(path, dpi=110)
+    print(f"wrote {path}")
+
+
+def main(argv=None) -> int:
+    p = argparse.ArgumentParser(prog="python -m benchmarks.bench_tables")
+    p.add_argument("--quick", action="store_true", help="knob curves only, no default table")
+    p.add_argument("--workers", type=int, default=1)
+    args = p.parse_args(argv if argv is not None else [])
+    if not args.quick:
+        default_table(args.workers)
+    curves = {"wavelength step": wavelength_step_curve(), "angles": angle_count_curve(),
+              "realizations": realizations_curve(), "grid": grid_curve()}
+    plot(curves)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
