@@ -14,13 +14,13 @@ import fcntl
 import json
 import os
 import shutil
-import tempfile
 import zipfile
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from .atomic import atomic_savez
 from .request import TableRequest
 from .schema import InkTable, TableError, read_table
 
@@ -28,19 +28,6 @@ from .schema import InkTable, TableError, read_table
 def default_root() -> Path:
     env = os.environ.get("INKBSDF_CACHE")
     return Path(env).expanduser() if env else Path.home() / ".cache" / "inkbsdf"
-
-
-def atomic_savez(path: Path, arrays: dict) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            np.savez(fh, **arrays)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
 
 
 @dataclass(frozen=True)

@@ -21,14 +21,13 @@ from __future__ import annotations
 
 import io
 import json
-import os
-import tempfile
 import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
+from .atomic import atomic_savez
 from .integrals import diffuse_albedo
 
 SCHEMA_VERSION = 1
@@ -139,16 +138,7 @@ def write_table(path, table: InkTable) -> Path:
     for name, arr in table.errors.items():
         arrays[f"{name}_err"] = np.asarray(arr, dtype=np.float64)
     arrays["meta"] = np.array(json.dumps(table.meta, sort_keys=True))
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            np.savez_compressed(fh, **arrays)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    atomic_savez(path, arrays, compressed=True)
     return path
 
 
