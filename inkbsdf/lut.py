@@ -93,14 +93,3 @@ def load_lut(path) -> InkLUT:
         return _load_cached.__wrapped__(str(p), 0, 0)   # read_table raises "not found"
     return _load_cached(str(p.resolve()), st.st_mtime_ns, st.st_size)
 
-
-def directional_albedo(lut: InkLUT, paper: float, coverage: float = 1.0) -> np.ndarray:
-    """Exact ∫ f cos θo dωo + R_spec, per (λ, σ) node, for a uniform paper albedo (reference).
-
-    c·[R_spec + R_diff + r·Tbar·τ̄/(1 − r·ρ̄)] + (1 − c)·r: what the BSDF must reflect in total.
-    Used by tests and for documentation; the BSDF evaluates the same expression per lane.
-    """
-    r = float(paper)
-    coupling = r * lut.tau_bar / (1.0 - r * lut.rho_bar)
-    ink = lut.R_spec + lut.R_diff + lut.Tbar * coupling[:, None]
-    return coverage * ink + (1.0 - coverage) * r
