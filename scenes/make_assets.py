@@ -1,12 +1,17 @@
-"""Generate the demo scene `printed_page.xml` and its textures from one page layout.
+"""Generate the demo scenes and their textures from page layouts.
 
-    python scenes/make_assets.py          # writes scenes/printed_page.xml, scenes/textures/*
+    python scenes/make_assets.py          # writes scenes/*.xml, scenes/textures/*
 
-An A4 sheet (cm) with a colour chart of six ink patches (R30, Y30, B30, G30, the particle-free
-Y25+B5 mix and clear varnish), their labels, a title and a paragraph printed in B30 through a
-coverage texture (white = ink), on a dark table under a sky-gradient environment and a softbox
-at a low angle whose mirror image puts the inks' sheen on the far row of patches.
-The outputs are committed; rerun after changing the layout.
+printed_page.xml: an A4 sheet (cm) with a colour chart of six ink patches (R30, Y30, B30, G30,
+the particle-free Y25+B5 mix and clear varnish), their labels, a title and a paragraph printed
+in B30 through a coverage texture (white = ink), on a dark table under a sky-gradient
+environment and a softbox at a low angle whose mirror image puts the inks' sheen on the far
+row of patches.  Its inks are table files (`make tables`).
+particle_inks.xml: the same page with one pigment load, Y7.5+B7.5, as a molecular mix and as
+grains (100 nm, 300 nm, agglutinated, rough top) beside molecular G15 — the paper's size
+effect.  Its inks are named in the scene (`ink`, `particles`): loading it builds the missing
+tables through the cache (wave solver, minutes per table).
+The outputs are committed; rerun after changing a layout.
 """
 
 from __future__ import annotations
@@ -27,36 +32,65 @@ PATCH_LIFT_CM = 0.02                   # patches lie on the page, a hair above i
 
 @dataclass(frozen=True)
 class Patch:
-    ink: str                 # table name (<ink>.npz) and label
+    ink: str                 # ink spec; with particles=None also the table name (<ink>.npz)
     label: str
     u_cm: float              # centre, from the page's left edge
     v_cm: float              # centre, from the page's top edge
     size_cm: float = 5.0
+    particles: str | None = None   # None: table file; else named in the scene (ink + particles)
 
 
-PATCHES = (
-    Patch("R30", "R30", 5.0, 8.6), Patch("Y30", "Y30", 10.5, 8.6),
-    Patch("clear", "clear varnish", 16.0, 8.6), Patch("B30", "B30", 5.0, 15.4),
-    Patch("G30", "G30 (molecular)", 10.5, 15.4), Patch("Y25+B5", "Y25+B5 mix", 16.0, 15.4),
-)
+@dataclass(frozen=True)
+class Page:
+    name: str                # scene file stem; texture textures/<name>_text.png
+    title: str
+    subtitle: str
+    paragraph: str
+    patches: tuple
+    in_scene_inks: bool      # True: BSDFs name their inks; False: $tables/<ink>.npz files
 
-TITLE = "Printed ink on paper"
-SUBTITLE = "wave-optics tables of a 1 µm ink layer, rendered with Mitsuba 3"
-PARAGRAPH = (
+
+ROW1, ROW2 = 8.6, 15.4
+PRINTED_PAGE = Page(
+    "printed_page", "Printed ink on paper",
+    "wave-optics tables of a 1 µm ink layer, rendered with Mitsuba 3",
     "Each coloured patch is a binder layer one micrometre thick holding 30 % pigment by volume. "
     "Its colour comes from light that crosses the layer, scatters in the paper and crosses "
     "it again; its sheen is the layer's coherent mirror reflection, tinted by thin-film "
     "interference. The green patch is a molecular mix of blue and yellow pigment; the "
-    "yellow-green one mixes 25 % yellow with 5 % blue. Clear varnish shows only its gloss."
-)
+    "yellow-green one mixes 25 % yellow with 5 % blue. Clear varnish shows only its gloss.",
+    (Patch("R30", "R30", 5.0, ROW1), Patch("Y30", "Y30", 10.5, ROW1),
+     Patch("clear", "clear varnish", 16.0, ROW1), Patch("B30", "B30", 5.0, ROW2),
+     Patch("G30", "G30 (molecular)", 10.5, ROW2), Patch("Y25+B5", "Y25+B5 mix", 16.0, ROW2)),
+    in_scene_inks=False)
+PARTICLE_PAGE = Page(
+    "particle_inks", "Same pigment, different grains",
+    "7.5 % yellow + 7.5 % blue by volume in a 1 µm layer: wave-optics tables",
+    "Every patch but one holds the same pigment load. Dissolved molecularly it is a deep "
+    "green; as 100-nm grains it is a little paler, as 300-nm grains paler still: between "
+    "large grains light finds paths that cross little pigment. Agglutinated 100-nm grains "
+    "behave like larger ones; a rough top, grains standing out of the binder, changes little. "
+    "G15 is one material mixing both pigments, the limit of infinitely small grains.",
+    (Patch("Y7.5+B7.5", "molecular mix", 5.0, ROW1),
+     Patch("Y7.5+B7.5", "100 nm grains", 10.5, ROW1, particles="sphere:100"),
+     Patch("Y7.5+B7.5", "300 nm grains", 16.0, ROW1, particles="sphere:300"),
+     Patch("G15", "G15 (molecular)", 5.0, ROW2),
+     Patch("Y7.5+B7.5", "100 nm, agglutinated", 10.5, ROW2, particles="sphere:100:agglutinated"),
+     Patch("Y7.5+B7.5", "300 nm, rough top", 16.0, ROW2, particles="sphere:300:rough")),
+    in_scene_inks=True)
+PAGES = (PRINTED_PAGE, PARTICLE_PAGE)
+#: realizations per wavelength for the particle page's tables (fewer than the default 4, so
+#: that loading the scene the first time takes minutes, not an hour; see docs/tables.md)
+PARTICLE_PAGE_REALIZATIONS = 2
 
 
 def patch_id(p: Patch) -> str:
     """Shape id of a patch in the scene (tests find patches by it)."""
-    return "patch_" + p.ink.replace("+", "_")
+    tail = "" if p.particles is None else "_" + p.particles.replace(":", "_")
+    return "patch_" + p.ink.replace("+", "_").replace(".", "p") + tail
 
 
-def make_text_texture(path: Path) -> None:
+def make_text_texture(page: Page, path: Path) -> None:
     """The page's coverage texture: title, labels, paragraph, crop marks (1 = ink)."""
     import matplotlib
 
@@ -71,14 +105,14 @@ def make_text_texture(path: Path) -> None:
     ax.set_facecolor("black")
     ax.axis("off")
     pt = lambda cm: cm / 2.54 * 72.0          # noqa: E731  font size for a given em height
-    ax.text(PAGE_W_CM / 2, 3.3, TITLE, color="white", ha="center", va="baseline",
+    ax.text(PAGE_W_CM / 2, 3.3, page.title, color="white", ha="center", va="baseline",
             fontsize=pt(1.45), fontweight="bold", family="DejaVu Serif")
-    ax.text(PAGE_W_CM / 2, 4.5, SUBTITLE, color="white", ha="center", va="baseline",
+    ax.text(PAGE_W_CM / 2, 4.5, page.subtitle, color="white", ha="center", va="baseline",
             fontsize=pt(0.52), family="DejaVu Sans", style="italic")
-    for p in PATCHES:
+    for p in page.patches:
         ax.text(p.u_cm, p.v_cm + p.size_cm / 2 + 0.75, p.label, color="white", ha="center",
                 va="baseline", fontsize=pt(0.6), family="DejaVu Sans", fontweight="bold")
-    lines = textwrap.wrap(PARAGRAPH, width=62)
+    lines = textwrap.wrap(page.paragraph, width=62)
     for k, line in enumerate(lines):
         ax.text(2.5, 21.4 + 0.85 * k, line, color="white", ha="left", va="baseline",
                 fontsize=pt(0.5), family="DejaVu Serif")
@@ -123,16 +157,29 @@ def _rect(u_cm, v_cm, half_w, half_h, lift_cm):
             f'<rotate x="1" angle="-90"/><translate x="{x:g}" y="{lift_cm:g}" z="{z:g}"/></transform>')
 
 
-def scene_xml() -> str:
+def _ink_source(page: Page, ink: str, particles: str | None) -> str:
+    """The BSDF parameters naming an ink: a table file, or the ink itself (cache)."""
+    if not page.in_scene_inks:
+        return f'<string name="filename" value="$tables/{ink}.npz"/>'
+    out = f'<string name="ink" value="{ink}"/>'
+    if particles:
+        out += (f'<string name="particles" value="{particles}"/>'
+                f'<integer name="realizations" value="{PARTICLE_PAGE_REALIZATIONS}"/>')
+    return out
+
+
+def scene_xml(page: Page) -> str:
     patches = "\n".join(
         f'    <shape type="rectangle" id="{patch_id(p)}">\n'
         f'        {_rect(p.u_cm, p.v_cm, p.size_cm / 2, p.size_cm / 2, PATCH_LIFT_CM)}\n'
-        f'        <bsdf type="ink"><string name="filename" value="$tables/{p.ink}.npz"/>'
-        f'<float name="paper" value="$paper"/></bsdf>\n    </shape>' for p in PATCHES)
+        f'        <bsdf type="ink">{_ink_source(page, p.ink, p.particles)}'
+        f'<float name="paper" value="$paper"/></bsdf>\n    </shape>' for p in page.patches)
+    tables_param = '' if page.in_scene_inks else '\n    <default name="tables" value="../out/tables"/>'
+    inks = ("inks named in the scene (built through the table cache)" if page.in_scene_inks
+            else "tables (folder of <ink>.npz)")
     return f"""<!-- A printed page: generated by scenes/make_assets.py, edit the layout there.
-     Parameters: tables (folder of <ink>.npz), width, height, spp, paper (albedo). Units: cm. -->
-<scene version="3.0.0">
-    <default name="tables" value="../out/tables"/>
+     Inks: {inks}.  Parameters: width, height, spp, paper (albedo). Units: cm. -->
+<scene version="3.0.0">{tables_param}
     <default name="width" value="640"/>
     <default name="height" value="512"/>
     <default name="spp" value="64"/>
@@ -174,10 +221,10 @@ def scene_xml() -> str:
     <shape type="rectangle" id="page">
         {_rect(PAGE_W_CM / 2, PAGE_H_CM / 2, PAGE_W_CM / 2, PAGE_H_CM / 2, 0.0)}
         <bsdf type="ink">
-            <string name="filename" value="$tables/{TEXT_INK}.npz"/>
+            {_ink_source(page, TEXT_INK, None)}
             <float name="paper" value="$paper"/>
             <texture type="bitmap" name="coverage">
-                <string name="filename" value="textures/page_text.png"/>
+                <string name="filename" value="textures/{page.name}_text.png"/>
                 <boolean name="raw" value="true"/>
                 <transform name="to_uv"><scale y="-1"/><translate y="1"/></transform>
             </texture>
@@ -194,10 +241,11 @@ def main() -> None:
 
     mi.set_variant("scalar_rgb")
     (HERE / "textures").mkdir(exist_ok=True)
-    make_text_texture(HERE / "textures" / "page_text.png")
     make_sky(HERE / "textures" / "sky.exr")
-    (HERE / "printed_page.xml").write_text(scene_xml())
-    print(f"wrote {HERE / 'printed_page.xml'} and textures/page_text.png, textures/sky.exr")
+    for page in PAGES:
+        make_text_texture(page, HERE / "textures" / f"{page.name}_text.png")
+        (HERE / f"{page.name}.xml").write_text(scene_xml(page))
+        print(f"wrote {HERE / (page.name + '.xml')} and textures/{page.name}_text.png")
 
 
 if __name__ == "__main__":
