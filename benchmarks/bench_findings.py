@@ -7,6 +7,7 @@ the grid's bias here is ≈ 0.005 in Rbar/Tbar, bench_tables) rendered as the co
 paper (r = 0.9) under diffuse light seen at 0°.  Checks printed (✓/✗):
   1. colour saturates with concentration (Y7.5+B7.5 → Y15+B15, 300 nm and molecular);
   2. and with smaller particles (300 → 100 → 30 nm → molecular, at 15 %);
+     ("saturated" as CIELAB saturation s = C*/L*: a denser layer is darker at similar chroma)
   3. the size effect is strongest at low concentration (15 % vs 30 %);
   4. agglutinated 100-nm grains look like bigger grains (chroma between 100 and 300 nm or below);
   5. the Y+B particle mix approaches molecular Green as size shrinks;
@@ -54,16 +55,18 @@ def main(argv=None) -> int:
         lab = labs[ink, particles]
         hue, chroma = lab_hue_chroma(lab)
         print(f"{ink:10s} {particles:24s} L* {lab[0]:5.1f} a* {lab[1]:6.1f} b* {lab[2]:6.1f} "
-              f"C* {chroma:5.1f} h {hue:5.1f}°   ({time.perf_counter() - t0:.0f} s)", flush=True)
+              f"C* {chroma:5.1f} s {chroma / lab[0]:4.2f} h {hue:5.1f}°   ({time.perf_counter() - t0:.0f} s)",
+              flush=True)
     green = colour(build_table(TableRequest("G15"), BuildOptions(progress=False, cache=cache)))[0]
     C = lambda ink, p: float(lab_hue_chroma(labs[ink, p])[1])
+    S = lambda ink, p: C(ink, p) / float(labs[ink, p][0])          # CIELAB saturation C*/L*
     dE = lambda a, b: float(np.linalg.norm(a - b))
     low, high = "Y7.5+B7.5", "Y15+B15"
     checks = [
-        ("1. chroma grows with concentration (300 nm; molecular)",
-         C(high, "sphere:300") > C(low, "sphere:300") and C(high, "molecular") > C(low, "molecular")),
-        ("2. chroma grows as grains shrink (15 %: 300 < 100 < molecular)",
-         C(low, "sphere:300") < C(low, "sphere:100") < C(low, "molecular")),
+        ("1. saturation C*/L* grows with concentration (300 nm; 100 nm; molecular)",
+         all(S(high, p) > S(low, p) for p in ("sphere:300", "sphere:100", "molecular"))),
+        ("2. saturation grows as grains shrink (15 %: 300 < 100 < 30 nm ≤ molecular)",
+         S(low, "sphere:300") < S(low, "sphere:100") < S(low, "sphere:30") <= S(low, "molecular") + 0.005),
         ("3. size effect stronger at 15 % than at 30 % (ΔE molecular↔300 nm)",
          dE(labs[low, "molecular"], labs[low, "sphere:300"]) > dE(labs[high, "molecular"], labs[high, "sphere:300"])),
         ("4. agglutinated 100 nm is less saturated than dispersed 100 nm (looks bigger)",
