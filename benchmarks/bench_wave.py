@@ -24,6 +24,8 @@ from pathlib import Path
 
 import numpy as np
 
+from solver.geometry import LayerSpec, generate, parse_particles, voxelize
+from solver.inks import parse_ink
 from solver.wave import (BornDivergenceError, Cell, ConvergenceWarning, Incidence, bloch_vector,
                          prepare, solve_prepared)
 
@@ -33,57 +35,16 @@ LAM, SIGMA, TOL, SEED = 500.0, math.radians(25.0), 1e-4, 1
 OUT = Path("out/bench")
 
 
-# ------------------------------------------------------------------------------------------
-# STAND-IN geometry: seeded random sequential addition + supersampled voxeliser.
-# To be replaced by solver.geometry once it lands (kept minimal on purpose).
-# ------------------------------------------------------------------------------------------
-def rsa_spheres(period, thickness, diameter, fraction, seed, max_tries=400_000):
-    """Non-overlapping sphere centres (lateral periodic, inside the z-range) by random
-    sequential addition until the volume fraction is reached."""
-    rng = np.random.default_rng(seed)
-    r = diameter / 2
-    volume = period[0] * period[1] * thickness
-    target = int(round(fraction * volume / (math.pi / 6 * diameter ** 3)))
-    centres = np.empty((target, 3))
-    n = 0
-    for _ in range(max_tries):
-        if n == target:
-            break
-        p = rng.uniform([0, 0, r], [period[0], period[1], thickness - r])
-        d = centres[:n] - p
-        d[:, :2] -= np.asarray(period) * np.round(d[:, :2] / np.asarray(period))
-        if n == 0 or np.min(np.einsum("ij,ij->i", d, d)) >= diameter ** 2:
-            centres[n] = p
-            n += 1
-    if n < target:
-        raise RuntimeError(f"RSA placed only {n} of {target} spheres")
-    return centres
-
-
-def voxelise_spheres(centres, radius, period, thickness, shape, ss=4):
-    """Sub-voxel volume fraction of the spheres on the grid (ss³ samples per voxel)."""
-    nx, ny, nz = shape
-    h = np.array([period[0] / nx, period[1] / ny, thickness / nz])
-    frac = np.zeros(shape)
-    o = (np.arange(ss) + 0.5) / ss
-    for c in centres:
-        lo = np.floor((c - radius) / h).astype(int)
-        hi = np.floor((c + radius) / h).astype(int)
-        lo[2], hi[2] = max(lo[2], 0), min(hi[2], nz - 1)
-        idx = [np.arange(lo[a], hi[a] + 1) for a in range(3)]
-        pts = [((i[:, None] + o[None, :]) * h[a]).ravel() - c[a] for a, i in enumerate(idx)]
-        inside = (pts[0][:, None, None] ** 2 + pts[1][None, :, None] ** 2
-                  + pts[2][None, None, :] ** 2) <= radius ** 2
-        cnt = inside.reshape(len(idx[0]), ss, len(idx[1]), ss, len(idx[2]), ss).mean(axis=(1, 3, 5))
-        frac[np.ix_(idx[0] % nx, idx[1] % ny, idx[2])] += cnt
-    return np.minimum(frac, 1.0)
-
-
 def reference_cell(shape, eta_pigment=ETA_PIGMENT, seed=SEED) -> Cell:
-    centres = rsa_spheres(PERIOD, THICK, DIAM, FILL, seed)
-    frac = voxelise_spheres(centres, DIAM / 2, PERIOD, THICK, shape)
-    eb = ETA_BINDER ** 2
-    return Cell(eb + (eta_pigment ** 2 - eb) * frac, PERIOD, (0.0, THICK))
+    """The reference layer from the project's geometry generator: 30 % of 300-nm spheres,
+    voxelised with exact sub-voxel fractions; the grains get the fixed index η_pigment (the
+    case's 1.4 + 0.2i) instead of a pigment spectrum."""
+    layer = LayerSpec(parse_ink(f"R{100 * FILL:g}"), parse_particles(f"sphere:{DIAM:g}"),
+                      thickness_nm=THICK, cell_nm=PERIOD)
+    vox = voxelize(generate(layer, seed), shape)
+    f = dict(zip(vox.materials, vox.fractions.astype(np.float64)))
+    eps = f["binder"] * ETA_BINDER ** 2 + f["air"] * 1.0 + f["R"] * eta_pigment ** 2
+    return Cell(eps, PERIOD, vox.z_range_nm)
 
 
 # ------------------------------------------------------------------------------------------

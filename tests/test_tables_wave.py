@@ -191,3 +191,26 @@ def test_scene_naming_two_inks_builds_exactly_two_tables(tmp_path, use_variant, 
                       "c": rect(3, ink("G30", coverage=0.5)), "d": rect(6, ink("R30", paper=0.8))})
     assert len(list((cache / "tables").glob("*.npz"))) == 2
     assert sum("computing table" in r.message for r in caplog.records) == 2
+
+
+def test_wave_table_in_the_bsdf(use_variant, table_and_request, tmp_path):
+    """A real particle table through the plugin: eval = the reference formula, reciprocal, and
+    the sampled albedo on white paper stays ≤ 1."""
+    from conftest import ink_bsdf
+    from test_bsdf_energy import sampled_albedo
+    from test_bsdf_eval import _eval, _hemisphere, reference_eval
+    from solver.table import write_table
+
+    mi = use_variant("llvm_ad_spectral")
+    table, _ = table_and_request
+    path = write_table(tmp_path / "wave.npz", table)
+    bsdf = ink_bsdf(mi, path, paper=1.0)
+    rng = np.random.default_rng(11)
+    a, b = _hemisphere(rng, 2048), _hemisphere(rng, 2048)
+    lam = rng.uniform(420.0, 720.0, size=(4, 2048))
+    f_ab = _eval(mi, bsdf, a, b, lam)
+    np.testing.assert_allclose(f_ab, reference_eval(read_table(path), a, b, lam, 1.0, 1.0), rtol=2e-4, atol=2e-6)
+    np.testing.assert_allclose(f_ab / b[2], _eval(mi, bsdf, b, a, lam) / a[2], rtol=2e-4, atol=1e-6)
+    for deg in (0.0, 40.0, 75.0):
+        mean, err = sampled_albedo(mi, bsdf, deg, rng.uniform(430.0, 700.0, size=(4, 1 << 15)))
+        assert 0.05 < mean <= 1.0 + 4.5 * err + 1e-4
