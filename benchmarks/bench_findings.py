@@ -92,7 +92,8 @@ def _swatches(rgbs: dict) -> None:
     fig, ax = plt.subplots(figsize=(12, 2.8))
     for i, ((ink, particles), rgb) in enumerate(rgbs.items()):
         ax.add_patch(plt.Rectangle((i, 0), 0.9, 1, color=np.asarray(rgb) / 255))
-        ax.text(i + 0.45, -0.08, f"{ink}\n{particles}", ha="center", va="top", fontsize=7)
+        label = particles.replace(":agglutinated", "\nagglutinated").replace(":rough", "\nrough top")
+        ax.text(i + 0.45, -0.08, f"{ink}\n{label}", ha="center", va="top", fontsize=7)
     ax.set_xlim(-0.1, len(rgbs))
     ax.set_ylim(-0.6, 1.05)
     ax.axis("off")
