@@ -205,3 +205,21 @@ def test_every_iteration_reports_its_residual(method):
     assert seen[-1][0] <= res.applications
     if method == "gmres":
         assert all(b <= a * (1 + 1e-12) for a, b in zip(res.residuals, res.residuals[1:]))
+
+
+def test_truncated_born_on_request_is_silent_but_reports_its_residual():
+    import warnings
+
+    from solver.wave import Cell, Incidence, bloch_vector, prepare, solve_prepared
+
+    eps = np.full((8, 8, 4), 1.558**2, complex)
+    eps[:4, :4, :2] = (1.4 + 0.2j) ** 2
+    cell = Cell(eps, (1000.0, 1000.0), (0.0, 500.0))
+    kx0, ky0 = bloch_vector(cell, Incidence(500.0, 0.3))
+    op = prepare(cell, 500.0, kx0, ky0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        res = solve_prepared(op, method="born", maxiter=1, on_fail="ignore")
+    assert not res.converged and res.residual > 1e-4 and res.applications == 1
+    with pytest.warns(Warning, match="stopped after 1 operator"):
+        solve_prepared(op, method="born", maxiter=1)

@@ -88,14 +88,16 @@ def solve_prepared(op: LayerOperator, from_below: bool = False, *, tol: float = 
     tol: relative residual ‖b − A·w‖/‖b‖ at which the iteration stops.  method: 'auto'
     (= 'gmres', see docs/wave_solver.md), 'gmres', 'bicgstab' or 'born' (raises
     BornDivergenceError when the series diverges).  maxiter: operator applications.
-    on_fail: 'warn' (ConvergenceWarning) or 'raise' (ConvergenceError) when tol is not reached.
+    on_fail: 'warn' (ConvergenceWarning) or 'raise' (ConvergenceError) when tol is not reached;
+    'ignore' only where a truncated iteration is the intent (e.g. first-order Born): the result's
+    `converged` and `residual` still say how far it got.
     callback(applications, relative_residual) is called after every iteration.
     exact_energy False skips the scheme-exact ∫|u|² (absorbed = absorbed_midpoint then).
     """
     if method not in METHODS:
         raise ValueError(f"method must be one of {METHODS}, got {method!r}")
-    if on_fail not in ("warn", "raise"):
-        raise ValueError("on_fail must be 'warn' or 'raise'")
+    if on_fail not in ("warn", "raise", "ignore"):
+        raise ValueError("on_fail must be 'warn', 'raise' or 'ignore'")
     if not tol > 0:
         raise ValueError("tol must be positive")
     t0 = time.perf_counter()
@@ -124,7 +126,8 @@ def solve_prepared(op: LayerOperator, from_below: bool = False, *, tol: float = 
                f"R+T+A−1 = {big_r + big_t + a_exact - 1:.2g}")
         if on_fail == "raise":
             raise ConvergenceError(msg)
-        warnings.warn(msg, ConvergenceWarning, stacklevel=2)
+        if on_fail == "warn":
+            warnings.warn(msg, ConvergenceWarning, stacklevel=2)
     field = None
     if return_field:
         lx, ly = op.cell.period_nm
