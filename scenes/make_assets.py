@@ -28,6 +28,9 @@ TEXT_PX_PER_CM = 48
 SKY_SIZE = (256, 128)                  # lat-long width, height
 TEXT_INK = "B30"
 PATCH_LIFT_CM = 0.02                   # patches lie on the page, a hair above it
+TITLE_MAX_WIDTH_CM, LABEL_MAX_WIDTH_CM = 18.0, 5.0
+CAMERA = (0.0, 30.0, 33.0)             # eye, cm; looks at the page centre from ~42° above it
+SOFTBOX_HEIGHT_CM = 40.0
 
 
 @dataclass(frozen=True)
@@ -48,6 +51,7 @@ class Page:
     paragraph: str
     patches: tuple
     in_scene_inks: bool      # True: BSDFs name their inks; False: $tables/<ink>.npz files
+    sheen_uv_cm: tuple       # (u, v) on the page where the softbox's mirror image lands
 
 
 ROW1, ROW2 = 8.6, 15.4
@@ -62,22 +66,23 @@ PRINTED_PAGE = Page(
     (Patch("R30", "R30", 5.0, ROW1), Patch("Y30", "Y30", 10.5, ROW1),
      Patch("clear", "clear varnish", 16.0, ROW1), Patch("B30", "B30", 5.0, ROW2),
      Patch("G30", "G30 (molecular)", 10.5, ROW2), Patch("Y25+B5", "Y25+B5 mix", 16.0, ROW2)),
-    in_scene_inks=False)
+    in_scene_inks=False, sheen_uv_cm=(13.07, 9.28))
 PARTICLE_PAGE = Page(
     "particle_inks", "Same pigment, different grains",
     "7.5 % yellow + 7.5 % blue by volume in a 1 µm layer: wave-optics tables",
-    "Every patch but one holds the same pigment load. Dissolved molecularly it is a deep "
-    "green; as 100-nm grains it is a little paler, as 300-nm grains paler still: between "
-    "large grains light finds paths that cross little pigment. Agglutinated 100-nm grains "
-    "behave like larger ones; a rough top, grains standing out of the binder, changes little. "
-    "G15 is one material mixing both pigments, the limit of infinitely small grains.",
-    (Patch("Y7.5+B7.5", "molecular mix", 5.0, ROW1),
-     Patch("Y7.5+B7.5", "100 nm grains", 10.5, ROW1, particles="sphere:100"),
-     Patch("Y7.5+B7.5", "300 nm grains", 16.0, ROW1, particles="sphere:300"),
-     Patch("G15", "G15 (molecular)", 5.0, ROW2),
-     Patch("Y7.5+B7.5", "100 nm, agglutinated", 10.5, ROW2, particles="sphere:100:agglutinated"),
-     Patch("Y7.5+B7.5", "300 nm, rough top", 16.0, ROW2, particles="sphere:300:rough")),
-    in_scene_inks=True)
+    "Every patch holds the same pigment load. Dissolved molecularly it is a deep green; as "
+    "30-nm grains it looks the same (the solver finds an effective-medium film accurate "
+    "enough); as 100-nm grains it is a little paler, as 300-nm grains much paler and "
+    "yellower: between large grains light finds paths that cross little pigment. Clustered "
+    "100-nm grains behave like larger ones; a rough top, grains standing out of the binder, "
+    "changes little. The lighter band across this text is the softbox's mirror image in the ink.",
+    (Patch("Y7.5+B7.5", "molecular", 5.0, ROW1),
+     Patch("Y7.5+B7.5", "30 nm grains", 10.5, ROW1, particles="sphere:30"),
+     Patch("Y7.5+B7.5", "100 nm grains", 16.0, ROW1, particles="sphere:100"),
+     Patch("Y7.5+B7.5", "300 nm grains", 5.0, ROW2, particles="sphere:300"),
+     Patch("Y7.5+B7.5", "100 nm clustered", 10.5, ROW2, particles="sphere:100:agglutinated"),
+     Patch("Y7.5+B7.5", "300 nm rough top", 16.0, ROW2, particles="sphere:300:rough")),
+    in_scene_inks=True, sheen_uv_cm=(10.5, 23.6))
 PAGES = (PRINTED_PAGE, PARTICLE_PAGE)
 #: realizations per wavelength for the particle page's tables (fewer than the default 4, so
 #: that loading the scene the first time takes minutes, not an hour; see docs/tables.md)
@@ -105,13 +110,14 @@ def make_text_texture(page: Page, path: Path) -> None:
     ax.set_facecolor("black")
     ax.axis("off")
     pt = lambda cm: cm / 2.54 * 72.0          # noqa: E731  font size for a given em height
+    title_cm = min(1.45, TITLE_MAX_WIDTH_CM / (0.62 * len(page.title)))   # bold serif ≈ 0.62 em/char
     ax.text(PAGE_W_CM / 2, 3.3, page.title, color="white", ha="center", va="baseline",
-            fontsize=pt(1.45), fontweight="bold", family="DejaVu Serif")
+            fontsize=pt(title_cm), fontweight="bold", family="DejaVu Serif")
     ax.text(PAGE_W_CM / 2, 4.5, page.subtitle, color="white", ha="center", va="baseline",
             fontsize=pt(0.52), family="DejaVu Sans", style="italic")
     for p in page.patches:
         ax.text(p.u_cm, p.v_cm + p.size_cm / 2 + 0.75, p.label, color="white", ha="center",
-                va="baseline", fontsize=pt(0.6), family="DejaVu Sans", fontweight="bold")
+                va="baseline", fontsize=pt(min(0.6, LABEL_MAX_WIDTH_CM / (0.62 * len(p.label)))), family="DejaVu Sans", fontweight="bold")
     lines = textwrap.wrap(page.paragraph, width=62)
     for k, line in enumerate(lines):
         ax.text(2.5, 21.4 + 0.85 * k, line, color="white", ha="left", va="baseline",
@@ -168,6 +174,14 @@ def _ink_source(page: Page, ink: str, particles: str | None) -> str:
     return out
 
 
+def softbox_origin(page: Page) -> tuple:
+    """Softbox centre at SOFTBOX_HEIGHT_CM whose mirror image, seen from CAMERA, is at sheen_uv_cm."""
+    u, v = page.sheen_uv_cm
+    p = np.array([u - PAGE_W_CM / 2, 0.0, v - PAGE_H_CM / 2])
+    mirrored_eye = np.array([CAMERA[0], -CAMERA[1], CAMERA[2]])
+    return tuple(mirrored_eye + (p - mirrored_eye) * (SOFTBOX_HEIGHT_CM + CAMERA[1]) / CAMERA[1]), tuple(p)
+
+
 def scene_xml(page: Page) -> str:
     patches = "\n".join(
         f'    <shape type="rectangle" id="{patch_id(p)}">\n'
@@ -175,6 +189,7 @@ def scene_xml(page: Page) -> str:
         f'        <bsdf type="ink">{_ink_source(page, p.ink, p.particles)}'
         f'<float name="paper" value="$paper"/></bsdf>\n    </shape>' for p in page.patches)
     tables_param = '' if page.in_scene_inks else '\n    <default name="tables" value="../out/tables"/>'
+    (sx, sy, sz), (px, py, pz) = softbox_origin(page)
     inks = ("inks named in the scene (built through the table cache)" if page.in_scene_inks
             else "tables (folder of <ink>.npz)")
     return f"""<!-- A printed page: generated by scenes/make_assets.py, edit the layout there.
@@ -190,7 +205,7 @@ def scene_xml(page: Page) -> str:
 
     <sensor type="perspective" id="camera">
         <float name="fov" value="40"/>
-        <transform name="to_world"><lookat origin="0, 30, 33" target="0, 0, 0.3" up="0, 1, 0"/></transform>
+        <transform name="to_world"><lookat origin="{CAMERA[0]:g}, {CAMERA[1]:g}, {CAMERA[2]:g}" target="0, 0, 0.3" up="0, 1, 0"/></transform>
         <sampler type="independent"><integer name="sample_count" value="$spp"/></sampler>
         <film type="hdrfilm">
             <integer name="width" value="$width"/><integer name="height" value="$height"/>
@@ -203,11 +218,11 @@ def scene_xml(page: Page) -> str:
         <float name="scale" value="1.3"/>
     </emitter>
 
-    <!-- softbox low over the far side: its mirror image lands on the far row of patches -->
+    <!-- softbox: its mirror image, the sheen, lands at ({page.sheen_uv_cm[0]:g}, {page.sheen_uv_cm[1]:g}) cm on the page -->
     <shape type="rectangle" id="softbox">
         <transform name="to_world">
             <scale x="6" y="3.5"/>
-            <lookat origin="6, 40, -57" target="2.5, 0, -6" up="0, 1, 0"/>
+            <lookat origin="{sx:.1f}, {sy:.1f}, {sz:.1f}" target="{px:.1f}, {py:g}, {pz:.1f}" up="0, 1, 0"/>
         </transform>
         <emitter type="area"><rgb name="radiance" value="3.0, 3.0, 3.0"/></emitter>
     </shape>
