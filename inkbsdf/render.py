@@ -11,8 +11,11 @@ declares them.
 from __future__ import annotations
 
 import argparse
+import os
+import re
 import sys
 import time
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -44,15 +47,27 @@ def _problem(exc: Exception) -> str:
     return lines[0] if lines else repr(exc)
 
 
+def scene_parameter_names(xml_text: str) -> set:
+    """Parameters a scene file takes: its `<default name=…>` and its `$name` references."""
+    return set(re.findall(r'<default\s+name="(\w+)"', xml_text)) | set(re.findall(r"\$(\w+)", xml_text))
+
+
 def load_scene(path, **params):
-    """Load a scene file with `scene_parameters(**params)`; raise SceneLoadError on failure."""
+    """Load a scene file with those of `scene_parameters(**params)` it takes (Mitsuba refuses
+    unused ones; the others are dropped with a warning); raise SceneLoadError on failure."""
     import mitsuba as mi
 
     scene_path = Path(path)
     if not scene_path.is_file():
         raise SceneLoadError(f"{scene_path}: scene file not found")
+    wanted = scene_parameters(**params)
+    taken = scene_parameter_names(scene_path.read_text(errors="replace"))
+    dropped = sorted(set(wanted) - taken - {"spp"})      # spp also reaches mi.render directly
+    if dropped:
+        warnings.warn(f"{scene_path} takes no parameter {', '.join('$' + d for d in dropped)}; ignored",
+                      stacklevel=2)
     try:
-        return mi.load_file(str(scene_path), **scene_parameters(**params))
+        return mi.load_file(str(scene_path), **{k: v for k, v in wanted.items() if k in taken})
     except Exception as exc:   # Mitsuba wraps plugin errors in RuntimeError with a traceback
         raise SceneLoadError(f"{scene_path}: {_problem(exc)}") from None
 
@@ -66,7 +81,10 @@ def render_scene(scene_path, tables=None, spp=64, width=None, height=None, seed=
     t0 = time.perf_counter()
     scene = load_scene(scene_path, tables=tables, width=width, height=height, spp=spp)
     t1 = time.perf_counter()
-    image = mi.render(scene, spp=spp, seed=seed)
+    try:
+        image = mi.render(scene, spp=spp, seed=seed)
+    except Exception as exc:     # e.g. a scene without an integrator
+        raise SceneLoadError(f"{scene_path}: cannot render: {_problem(exc)}") from None
     dr.eval(image)
     dr.sync_thread()
     t2 = time.perf_counter()
@@ -85,6 +103,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--height", type=int, default=None, help="image height (scene default if unset)")
     p.add_argument("--exposure", type=float, default=0.0, help="PNG exposure, stops")
     p.add_argument("--seed", type=int, default=0, help="sampler seed")
+    p.add_argument("--workers", type=int, default=None,
+                   help="processes for tables a scene load builds (in-scene inks; default one per core)")
     p.add_argument("--variant", default=None,
                    help="Mitsuba variant (default: cuda_ad_spectral with a GPU, else llvm_ad_spectral)")
     return p
@@ -98,8 +118,11 @@ def main(argv=None) -> int:
     import mitsuba as mi
 
     import inkbsdf
+    from solver.table.executor import default_workers
     from inkbsdf.imageio import write_exr, write_png
 
+    # this entry point is guarded, so spawned table workers are safe here (inkbsdf/source.py)
+    os.environ["INKBSDF_WORKERS"] = str(args.workers or default_workers())
     try:
         mi.set_variant(args.variant or inkbsdf.default_variant())
         inkbsdf.register()

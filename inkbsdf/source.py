@@ -7,6 +7,7 @@ comes from the content-addressed cache of `solver.table.builder`.
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import mitsuba as mi
@@ -36,6 +37,23 @@ def table_request(props):
     return TableRequest(**kwargs)
 
 
+def build_workers(props) -> int:
+    """Worker processes for a table built during a scene load: the `workers` parameter, else
+    $INKBSDF_WORKERS, else 1 (in the loading process).
+
+    Not one per core as for `ink-tables build`: workers are spawned, and spawning re-runs the
+    calling script's top level; a script that loads a scene without an
+    `if __name__ == "__main__":` guard would load it again in every worker.
+    `python -m inkbsdf.render` is guarded and sets $INKBSDF_WORKERS to its `--workers`.
+    """
+    if "workers" in props:
+        return max(1, int(props.get("workers")))
+    try:
+        return max(1, int(os.environ.get("INKBSDF_WORKERS", "1")))
+    except ValueError:
+        raise TableError(f"$INKBSDF_WORKERS={os.environ['INKBSDF_WORKERS']!r} is not an integer") from None
+
+
 def load_table(props) -> InkLUT:
     """The table named by the BSDF's properties; raises TableError naming file and problem.
 
@@ -54,7 +72,7 @@ def load_table(props) -> InkLUT:
         except ValueError as exc:
             raise TableError(f"ink BSDF: {exc}") from None
         cache = TableCache(Path(str(props.get("cache")))) if "cache" in props else TableCache.default()
-        _, path, _ = get_or_build(request, BuildOptions(cache=cache))
+        _, path, _ = get_or_build(request, BuildOptions(cache=cache, workers=build_workers(props)))
         return load_lut(path)
     if "filename" not in props:
         raise TableError("ink BSDF: needs 'filename' (an ink table .npz, built with `ink-tables build`) "

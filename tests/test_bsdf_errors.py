@@ -104,3 +104,17 @@ def test_import_sets_a_default_variant_and_registers(ink_tables):
     assert out.returncode == 0, out.stderr
     variant, default = out.stdout.split()
     assert variant == default and variant in ("llvm_ad_spectral", "cuda_ad_spectral")
+
+
+def test_scene_load_workers_parameter_then_environment_then_one(monkeypatch):
+    from inkbsdf.source import build_workers
+    from solver.table import TableError
+
+    monkeypatch.delenv("INKBSDF_WORKERS", raising=False)
+    assert build_workers({}) == 1                       # in the loading process by default
+    monkeypatch.setenv("INKBSDF_WORKERS", "3")
+    assert build_workers({}) == 3
+    assert build_workers({"workers": 2}) == 2           # the BSDF's parameter wins
+    monkeypatch.setenv("INKBSDF_WORKERS", "many")
+    with pytest.raises(TableError, match="INKBSDF_WORKERS='many'"):
+        build_workers({})

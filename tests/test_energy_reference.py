@@ -38,6 +38,7 @@ def test_energy_at_most_one_for_every_ink(spec):
     assert np.all(albedo <= 1 + 1e-12) and np.all(albedo > 0)
 
 
+@pytest.mark.filterwarnings("ignore:Aligning")  # colour-science resamples D65 and the data to the CMFs
 def test_srgb_and_lab_agree_with_colour_science():
     wl = np.arange(380.0, 781.0, 5.0)
     refl = 0.2 + 0.6 * np.exp(-((wl - 560) / 60) ** 2)

@@ -5,6 +5,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from inkbsdf.render import main, scene_parameters
 
@@ -55,3 +56,28 @@ def test_module_entry_point_renders(tmp_path, ink_tables):
     image = read_exr(exr)
     assert image.shape == (40, 48, 3) and np.all(np.isfinite(image))
     assert png.stat().st_size > 100
+
+
+def test_scene_without_parameters_renders_and_says_what_it_ignored(tmp_path, ink_tables, capsys):
+    """Mitsuba refuses parameters a scene does not take: the CLI passes only those it takes."""
+    from inkbsdf.render import scene_parameter_names
+
+    scene = tmp_path / "bare.xml"
+    scene.write_text(f"""<scene version="3.0.0">
+  <integrator type="path"/>
+  <sensor type="perspective"><transform name="to_world"><lookat origin="0,0,3" target="0,0,0" up="0,1,0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="12"/></film></sensor>
+  <emitter type="constant"/>
+  <shape type="rectangle"><bsdf type="ink"><string name="filename" value="{ink_tables['R30']}"/></bsdf></shape>
+</scene>""")
+    assert scene_parameter_names(scene.read_text()) == set()
+    assert scene_parameter_names(Path(SCENE).read_text()) >= {"tables", "width", "height", "spp", "paper"}
+    exr = tmp_path / "bare.exr"
+    with pytest.warns(UserWarning, match=r"takes no parameter \$width; ignored"):
+        assert main([str(scene), "--spp", "2", "--width", "64", "-o", str(exr)]) == 0
+    from inkbsdf.imageio import read_exr
+
+    assert read_exr(exr).shape == (12, 16, 3)          # the scene's own film, not --width
+    scene.write_text(scene.read_text().replace('<integrator type="path"/>', ""))
+    assert main([str(scene), "--spp", "2", "-o", str(exr)]) == 2   # no integrator: one line, no traceback
+    assert "No integrator" in capsys.readouterr().err

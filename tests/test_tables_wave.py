@@ -34,8 +34,9 @@ def small(**kw) -> TableRequest:
     return TableRequest(**base)
 
 
-def opts(tmp_path, **kw) -> BuildOptions:
-    return BuildOptions(progress=False, cache=TableCache(tmp_path / "cache"), **kw)
+def opts(tmp_path, workers=1, **kw) -> BuildOptions:
+    """In-process by default (tiny tables: spawning workers costs more than it saves)."""
+    return BuildOptions(progress=False, cache=TableCache(tmp_path / "cache"), workers=workers, **kw)
 
 
 @pytest.fixture(scope="module")

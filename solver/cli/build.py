@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from ..table.builder import BuildOptions, get_or_build
+from ..table.executor import default_workers
 from ..table.cache import TableCache
 from ..table.request import TableRequest
 
@@ -62,7 +63,8 @@ def add_parser(sub) -> None:
     g.add_argument("--solver-tol", type=float, default=1e-4, help="wave solver relative residual")
     g.add_argument("--seed", type=int, default=1)
     r = p.add_argument_group("running")
-    r.add_argument("--workers", type=int, default=1, help="local worker processes")
+    r.add_argument("--workers", type=int, default=default_workers(),
+                   help="local worker processes (default: one per core; 1 = in this process)")
     r.add_argument("--scheduler", default=None, help="Dask scheduler address (runs the units there)")
     r.add_argument("--cache", default=None, help="cache directory (default $INKBSDF_CACHE or ~/.cache/inkbsdf)")
     r.add_argument("--no-progress", action="store_true")

@@ -19,7 +19,7 @@ import numpy as np
 from .. import __version__
 from ..inks import parse_ink
 from .cache import TableCache
-from .executor import run_units
+from .executor import default_workers, run_units
 from .request import TableRequest
 from .schema import SCHEMA_VERSION, InkTable
 from .thinfilm_tier import build_thinfilm_table
@@ -30,7 +30,7 @@ log = logging.getLogger("inkbsdf.tables")
 
 @dataclass(frozen=True)
 class BuildOptions:
-    workers: int = 1                     # local processes (1 = in this process)
+    workers: int = field(default_factory=default_workers)   # local processes (1 = in this process)
     scheduler: str | None = None         # Dask scheduler address: run the units there instead
     progress: bool = True
     cache: TableCache = field(default_factory=TableCache.default)

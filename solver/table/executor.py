@@ -9,6 +9,7 @@ a tqdm bar shows progress and ETA.
 from __future__ import annotations
 
 import logging
+import multiprocessing
 import os
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from typing import Any, Callable, Sequence
@@ -20,6 +21,11 @@ log = logging.getLogger("inkbsdf.tables")
 
 def _init_worker(threads: int) -> None:
     os.environ["INKBSDF_THREADS"] = str(threads)
+
+
+def default_workers() -> int:
+    """Local worker processes by default: one per core."""
+    return max(1, os.cpu_count() or 1)
 
 
 def run_units(fn: Callable, units: Sequence[Any], *, workers: int = 1, scheduler: str | None = None,
@@ -51,8 +57,9 @@ def run_units(fn: Callable, units: Sequence[Any], *, workers: int = 1, scheduler
                 done(i, fn(unit))
         else:
             threads = max(1, (os.cpu_count() or 1) // workers)
-            with ProcessPoolExecutor(max_workers=workers, initializer=_init_worker,
-                                     initargs=(threads,)) as pool:
+            # spawn, not fork: the caller may be a multithreaded process (a Mitsuba scene load)
+            with ProcessPoolExecutor(max_workers=workers, initializer=_init_worker, initargs=(threads,),
+                                     mp_context=multiprocessing.get_context("spawn")) as pool:
                 futures = {pool.submit(fn, unit): i for i, unit in enumerate(units)}
                 for fut in as_completed(futures):
                     done(futures[fut], fut.result())
