@@ -26,6 +26,7 @@ import numpy as np
 from solver.colour import reflectance_to_xyz, xyz_to_lab
 from solver.inks import parse_ink
 from solver.table.builder import BuildOptions, build_table
+from solver.table.executor import default_workers
 from solver.table.cache import TableCache
 from solver.table.evaluate import directional_albedo
 from solver.table.request import TableRequest
@@ -175,7 +176,8 @@ def plot(curves: dict) -> None:
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(prog="python -m benchmarks.bench_tables")
     p.add_argument("--quick", action="store_true", help="knob curves only, no default table")
-    p.add_argument("--workers", type=int, default=1)
+    p.add_argument("--workers", type=int, default=default_workers(),
+                   help="processes for the default table (knob curves run in-process)")
     args = p.parse_args(argv if argv is not None else [])
     if not args.quick:
         default_table(args.workers)
