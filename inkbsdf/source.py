@@ -54,6 +54,19 @@ def build_workers(props) -> int:
         raise TableError(f"$INKBSDF_WORKERS={os.environ['INKBSDF_WORKERS']!r} is not an integer") from None
 
 
+def show_build_log() -> None:
+    """Make the table builder's INFO lines (what a scene load computes) visible on stderr,
+    unless the application configured logging itself."""
+    import logging
+
+    log = logging.getLogger("inkbsdf.tables")
+    if not log.handlers and not logging.getLogger().handlers:
+        handler = logging.StreamHandler()
+        handler.setFormatter(logging.Formatter("inkbsdf: %(message)s"))
+        log.addHandler(handler)
+        log.setLevel(logging.INFO)
+
+
 def load_table(props) -> InkLUT:
     """The table named by the BSDF's properties; raises TableError naming file and problem.
 
@@ -72,6 +85,7 @@ def load_table(props) -> InkLUT:
         except ValueError as exc:
             raise TableError(f"ink BSDF: {exc}") from None
         cache = TableCache(Path(str(props.get("cache")))) if "cache" in props else TableCache.default()
+        show_build_log()
         _, path, _ = get_or_build(request, BuildOptions(cache=cache, workers=build_workers(props)))
         return load_lut(path)
     if "filename" not in props:

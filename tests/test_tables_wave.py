@@ -187,7 +187,7 @@ def test_scene_naming_two_inks_builds_exactly_two_tables(tmp_path, use_variant, 
     cache = tmp_path / "scene_cache"
     ink = lambda spec, **kw: {"type": "ink", "ink": spec, "cache": str(cache), **kw}
     rect = lambda x, bsdf: {"type": "rectangle", "to_world": mi.ScalarTransform4f().translate([x, 0, 0]), "bsdf": bsdf}
-    with caplog.at_level(logging.WARNING, logger="inkbsdf.tables"):
+    with caplog.at_level(logging.INFO, logger="inkbsdf.tables"):
         mi.load_dict({"type": "scene", "a": rect(-3, ink("R30")), "b": rect(0, ink("G30")),
                       "c": rect(3, ink("G30", coverage=0.5)), "d": rect(6, ink("R30", paper=0.8))})
     assert len(list((cache / "tables").glob("*.npz"))) == 2

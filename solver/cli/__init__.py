@@ -34,6 +34,7 @@ def main(argv: list[str] | None = None) -> int:
     args = make_parser().parse_args(argv)
     logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING,
                         format="%(levelname)s %(name)s: %(message)s")
+    logging.getLogger("inkbsdf.tables").setLevel(logging.INFO)   # what a build computes, and reuses
     try:
         return int(args.func(args) or 0)
     except (ValueError, FileNotFoundError) as exc:

@@ -175,11 +175,11 @@ def get_or_build(request: TableRequest, opts: BuildOptions | None = None) -> tup
         with opts.cache.lock(request):          # one builder per table, across threads and processes
             table = opts.cache.load(request)    # built meanwhile by whoever held the lock?
             if table is None:
-                log.warning("computing table: %s", request.describe())
+                log.info("computing table: %s", request.describe())
                 t0 = time.perf_counter()
                 table = build_table(request, opts)
                 path = opts.cache.store(request, table)
-                log.warning("table ready in %.1f s: %s", time.perf_counter() - t0, path)
+                log.info("table ready in %.1f s: %s", time.perf_counter() - t0, path)
                 return table, str(path), True
     log.info("cache hit for %s", request.describe())
     return table, str(opts.cache.table_path(request)), False
