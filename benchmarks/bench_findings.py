@@ -39,6 +39,7 @@ CASES += [("Y15+B15", p) for p in ("molecular", "sphere:100", "sphere:300")]
 
 
 def colour(table) -> tuple[np.ndarray, np.ndarray]:
+    """CIELAB and sRGB8 of the ink on paper r = 0.9 under uniform diffuse light, seen at 0°."""
     refl = directional_albedo(table, 0.9, 0.0)
     return xyz_to_lab(reflectance_to_xyz(table.wavelengths, refl)), reflectance_to_srgb8(table.wavelengths, refl)
 

@@ -23,7 +23,6 @@ from pathlib import Path
 
 import numpy as np
 
-from solver.colour import reflectance_to_xyz, xyz_to_lab
 from solver.inks import parse_ink
 from solver.table.builder import BuildOptions, build_table
 from solver.table.executor import default_workers
@@ -32,6 +31,8 @@ from solver.table.evaluate import directional_albedo
 from solver.table.request import TableRequest
 from solver.table.thinfilm_tier import build_thinfilm_table
 from solver.table.wave_tier import GeometryUnit, SolveUnit, geometry_unit, solve_unit
+
+from .bench_findings import colour
 
 OUT = Path("out/bench")
 INK, PARTICLES = "Y7.5+B7.5", "sphere:300"
@@ -116,8 +117,7 @@ def wavelength_step_curve(ink: str = "G30") -> list[tuple]:
         t0 = time.perf_counter()
         table = build_thinfilm_table(parse_ink(ink), 1000.0, wl, sigma)
         seconds = time.perf_counter() - t0
-        refl = directional_albedo(table, 0.9, 0.0)
-        return xyz_to_lab(reflectance_to_xyz(wl, refl)), seconds
+        return colour(table)[0], seconds
 
     ref, _ = lab(1.0)
     print(f"wavelength-step knob ({ink} thin film on paper r=0.9, ΔE*ab vs 1-nm sampling):")

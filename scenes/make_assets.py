@@ -8,9 +8,10 @@ in B30 through a coverage texture (white = ink), on a dark table under a sky-gra
 environment and a softbox at a low angle whose mirror image puts the inks' sheen on the far
 row of patches.  Its inks are table files (`make tables`).
 particle_inks.xml: the same page with one pigment load, Y7.5+B7.5, as a molecular mix and as
-grains (100 nm, 300 nm, agglutinated, rough top) beside molecular G15 — the paper's size
-effect.  Its inks are named in the scene (`ink`, `particles`): loading it builds the missing
-tables through the cache (wave solver, minutes per table).
+grains (30, 100 and 300 nm, clustered 100 nm, rough-top 300 nm) — the paper's size effect,
+with the softbox's mirror image on the paragraph instead of the patches.  Its inks are named
+in the scene (`ink`, `particles`): loading it builds the missing tables through the cache
+(wave solver, minutes per table).
 The outputs are committed; rerun after changing a layout.
 """
 
@@ -84,8 +85,8 @@ PARTICLE_PAGE = Page(
      Patch("Y7.5+B7.5", "300 nm rough top", 16.0, ROW2, particles="sphere:300:rough")),
     in_scene_inks=True, sheen_uv_cm=(10.5, 23.6))
 PAGES = (PRINTED_PAGE, PARTICLE_PAGE)
-#: realizations per wavelength for the particle page's tables (fewer than the default 4, so
-#: that loading the scene the first time takes minutes, not an hour; see docs/tables.md)
+#: realizations per wavelength for the particle page's tables (fewer than the default 4: the
+#: first load took 39 min in one process on 2 cores instead of over an hour; docs/tables.md)
 PARTICLE_PAGE_REALIZATIONS = 2
 
 
@@ -93,6 +94,11 @@ def patch_id(p: Patch) -> str:
     """Shape id of a patch in the scene (tests find patches by it)."""
     tail = "" if p.particles is None else "_" + p.particles.replace(":", "_")
     return "patch_" + p.ink.replace("+", "_").replace(".", "p") + tail
+
+
+def _fitting_em_cm(text: str, em_cm: float, max_width_cm: float) -> float:
+    """em_cm, or less so that bold text (≈ 0.62 em per character) fits in max_width_cm."""
+    return min(em_cm, max_width_cm / (0.62 * len(text)))
 
 
 def make_text_texture(page: Page, path: Path) -> None:
@@ -110,14 +116,14 @@ def make_text_texture(page: Page, path: Path) -> None:
     ax.set_facecolor("black")
     ax.axis("off")
     pt = lambda cm: cm / 2.54 * 72.0          # noqa: E731  font size for a given em height
-    title_cm = min(1.45, TITLE_MAX_WIDTH_CM / (0.62 * len(page.title)))   # bold serif ≈ 0.62 em/char
     ax.text(PAGE_W_CM / 2, 3.3, page.title, color="white", ha="center", va="baseline",
-            fontsize=pt(title_cm), fontweight="bold", family="DejaVu Serif")
+            fontsize=pt(_fitting_em_cm(page.title, 1.45, TITLE_MAX_WIDTH_CM)), fontweight="bold", family="DejaVu Serif")
     ax.text(PAGE_W_CM / 2, 4.5, page.subtitle, color="white", ha="center", va="baseline",
             fontsize=pt(0.52), family="DejaVu Sans", style="italic")
     for p in page.patches:
         ax.text(p.u_cm, p.v_cm + p.size_cm / 2 + 0.75, p.label, color="white", ha="center",
-                va="baseline", fontsize=pt(min(0.6, LABEL_MAX_WIDTH_CM / (0.62 * len(p.label)))), family="DejaVu Sans", fontweight="bold")
+                va="baseline", fontsize=pt(_fitting_em_cm(p.label, 0.6, LABEL_MAX_WIDTH_CM)),
+                family="DejaVu Sans", fontweight="bold")
     lines = textwrap.wrap(page.paragraph, width=62)
     for k, line in enumerate(lines):
         ax.text(2.5, 21.4 + 0.85 * k, line, color="white", ha="left", va="baseline",

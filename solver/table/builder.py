@@ -10,6 +10,7 @@ tier, so they count toward the table when the full tier is chosen.
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import time
 from dataclasses import dataclass, field
@@ -146,8 +147,7 @@ def build_table(request: TableRequest, opts: BuildOptions | None = None) -> InkT
         meta = _meta(request, tier, reason, timer, {"tier_probe": report, "errors": {
             "model": report.get("deviation", {}).get("effective-medium"), "energy_sum_tol": 1e-9}})
         meta["seeds"] = []
-        return InkTable(**{k: getattr(film, k) for k in ("wavelengths", "sigma", "theta", "dphi", "R", "R_spec",
-                                                          "T_coh", "Rbar", "Tbar", "Rbar_below")}, meta=meta)
+        return dataclasses.replace(film, meta=meta)
     if tier == "thin-film":
         raise ValueError(f"the thin-film tier is for molecular inks; {request.particles} has particles "
                          "(use tier 'effective-medium' for the mean-ε film)")

@@ -21,6 +21,7 @@ import numpy as np
 from .reduce import isotropize_normal, spread_orders, symmetrize_reciprocal
 from .request import TableRequest
 from .schema import InkTable
+from .wave_tier import dphi_grid, solved_mask
 
 
 def _se(per_real: np.ndarray) -> np.ndarray:
@@ -43,10 +44,8 @@ def _coherent(amp: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def reduce_units(request: TableRequest, units: list[list[dict]], meta: dict) -> InkTable:
     """units[r][λ] are solve_unit results; returns the validated-shape table (not yet written)."""
-    polar = np.asarray(request.sigma_rad)
-    dphi = np.linspace(0.0, np.pi, request.dphi_count)
+    polar, dphi, solved = np.asarray(request.sigma_rad), dphi_grid(request), solved_mask(request)
     nl, ns = len(request.wavelengths_nm), polar.size
-    solved = polar < np.pi / 2 - 1e-9
     cols = {k: np.zeros((nl, ns)) for k in ("R_spec", "T_coh", "Rbar", "Tbar", "Rbar_below")}
     errs = {k: np.zeros((nl, ns)) for k in cols}
     R = np.zeros((nl, ns, ns, dphi.size))

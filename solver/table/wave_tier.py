@@ -29,10 +29,14 @@ from .request import TableRequest
 GOLDEN = 0.5 * (math.sqrt(5.0) - 1.0)
 
 
+def solved_mask(request: TableRequest) -> np.ndarray:
+    """Which σ nodes are solved: all except grazing 90°, which is set analytically."""
+    return np.asarray(request.sigma_rad) < np.pi / 2 - 1e-9
+
+
 def solved_sigma(request: TableRequest) -> np.ndarray:
-    """Incidence angles that are solved (all nodes except grazing 90°, set analytically)."""
-    s = np.asarray(request.sigma_rad)
-    return s[s < np.pi / 2 - 1e-9]
+    """Incidence angles that are solved, rad."""
+    return np.asarray(request.sigma_rad)[solved_mask(request)]
 
 
 def dphi_grid(request: TableRequest) -> np.ndarray:
