@@ -89,4 +89,4 @@ class TableCache:
             return None
 
     def store_part(self, request: TableRequest, name: str, arrays: dict) -> None:
-        atomic_savez(self.parts_dir(request) / f"{name}.npz", arrays)
+        atomic_savez(self.parts_dir(request) / f"{name}.npz", arrays, durable=False)

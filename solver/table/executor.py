@@ -19,10 +19,6 @@ from tqdm import tqdm
 log = logging.getLogger("inkbsdf.tables")
 
 
-def _init_worker(threads: int) -> None:
-    os.environ["INKBSDF_THREADS"] = str(threads)
-
-
 def default_workers() -> int:
     """Local worker processes by default: one per core."""
     return max(1, os.cpu_count() or 1)
@@ -56,9 +52,9 @@ def run_units(fn: Callable, units: Sequence[Any], *, workers: int = 1, scheduler
             for i, unit in enumerate(units):
                 done(i, fn(unit))
         else:
-            threads = max(1, (os.cpu_count() or 1) // workers)
-            # spawn, not fork: the caller may be a multithreaded process (a Mitsuba scene load)
-            with ProcessPoolExecutor(max_workers=workers, initializer=_init_worker, initargs=(threads,),
+            # spawn, not fork: the caller may be a multithreaded process (a Mitsuba scene load);
+            # each unit carries its own FFT thread count
+            with ProcessPoolExecutor(max_workers=workers,
                                      mp_context=multiprocessing.get_context("spawn")) as pool:
                 futures = {pool.submit(fn, unit): i for i, unit in enumerate(units)}
                 for fut in as_completed(futures):
