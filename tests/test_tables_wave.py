@@ -139,6 +139,7 @@ def test_tier_choice_is_measured_and_recorded(tmp_path):
     assert tiny.meta["tier_probe"]["deviation"]["effective-medium"] <= 0.02
 
 
+@pytest.mark.slow
 def test_identical_for_any_number_of_workers_and_on_dask(tmp_path):
     from distributed import LocalCluster
 
@@ -152,20 +153,41 @@ def test_identical_for_any_number_of_workers_and_on_dask(tmp_path):
             np.testing.assert_array_equal(getattr(other, name), getattr(serial, name))
 
 
+def process_group(pgid: int) -> list[str]:
+    """Command lines of the live (non-zombie) processes in a process group (Linux /proc)."""
+    found = []
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+            if int(fields[2]) == pgid and fields[0] != "Z":
+                found.append((stat.parent / "cmdline").read_bytes().replace(b"\0", b" ").decode()[:120])
+        except (OSError, IndexError, ValueError):
+            continue
+    return found
+
+
+@pytest.mark.slow
 def test_killed_build_resumes_from_finished_units(tmp_path):
     cache = tmp_path / "cache"
     args = [sys.executable, "-m", "solver.cli", "-v", "build", "--ink", "Y7.5+B7.5", "--particles", "sphere:300",
             "--wavelengths", "400:700:20", "--angles", "4", "--grid", "24", "24", "12", "--realizations", "1",
             "--azimuths", "2", "--tier", "full", "--cache", str(cache), "--no-progress", "-o", str(tmp_path / "t.npz")]
-    proc = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    # a session of its own: every process the build starts (pool workers, the resource tracker)
+    # carries its process-group id, so we can see whether any outlives the kill
+    proc = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
     parts = lambda: sorted(cache.glob("parts/*/full_*.npz"))
     deadline = time.time() + 120
     while len(parts()) < 3 and time.time() < deadline and proc.poll() is None:
         time.sleep(0.02)
+    assert len(process_group(proc.pid)) >= 2, "the build was meant to run on a pool of workers"
     proc.send_signal(signal.SIGKILL)
     proc.wait()
     done = len(parts())
     assert 3 <= done < 16, f"the kill must land mid-build ({done} of 16 units finished)"
+    deadline = time.time() + 10
+    while process_group(proc.pid) and time.time() < deadline:
+        time.sleep(0.05)
+    assert not process_group(proc.pid), f"processes outlived the killed build: {process_group(proc.pid)}"
     res = subprocess.run(args, capture_output=True, text=True)
     assert res.returncode == 0, res.stderr
     assert f"solve (full): {16 - done} of 16 units to compute ({done} reused)" in res.stderr, res.stderr

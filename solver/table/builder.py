@@ -20,7 +20,7 @@ import numpy as np
 
 from . import tier_choice
 from .cache import TableCache
-from .executor import default_workers, run_units
+from .executor import check_scheduler, default_workers, run_units
 from .meta import table_meta
 from .request import RequestError, TableRequest
 from .schema import InkTable
@@ -169,8 +169,12 @@ def get_or_build(request: TableRequest, opts: BuildOptions | None = None) -> tup
 
     Returns (table, path, built) — built is False on a cache hit (nothing computed)."""
     opts = opts or BuildOptions()
+    opts.cache.check()
     table = opts.cache.load(request)
     if table is None:
+        if opts.scheduler and not request.molecular:
+            check_scheduler(opts.scheduler)
+        opts.cache.sweep()
         with opts.cache.lock(request):          # one builder per table, across threads and processes
             table = opts.cache.load(request)    # built meanwhile by whoever held the lock?
             if table is None:
