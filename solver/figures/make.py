@@ -114,8 +114,8 @@ def make_figure(figure: str, rows, columns, settings: FigureSettings, opts: Buil
                 report_path=None, echo=print) -> FigureOutput:
     """Build every cell (cached, resumable), draw the figure, write OUT.csv (and the report)."""
     out_png = Path(out_png)
+    plans = plan_cells(rows, columns, settings)          # bad settings are refused here, before any work
     opts.cache.check()
-    plans = plan_cells(rows, columns, settings)
     seconds = estimates(plans, opts)
     cached = sum(1 for p, s in zip(plans, seconds) if p.request is not None
                  and opts.cache.table_path(p.request).exists())
