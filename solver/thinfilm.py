@@ -18,13 +18,22 @@ Both polarisations share one face formula, r_ab = (q_a − q_b)/(q_a + q_b),
 t_ab = 2 q_a/(q_a + q_b), and one flux weight: R = |r|², T = Re(q_out)/Re(q_in)·|t|² (TM:
 the k_z/ε weights; with the same medium on both sides it equals the TE weight k_z).
 
-A stack is folded from the exit face up (Rouard's recursion, the S-matrix of a layered
-medium): with p = e^(i k_z d), |p| ≤ 1,
+A stack is folded from the exit face up on the tangential pair (u, v): u = E_y (TE) or H_y
+(TM), v = ∂_z u/(i c) with c = 1 (TE) or ε (TM), so a wave e^(±i k_z z) has v = ±q u and both
+are continuous at every face.  Start (u, v) = (1, q_out) at the exit face; through a layer of
+thickness d, with δ = k_z d, p = e^(iδ) (|p| ≤ 1), E = 1 − p² (from expm1) and
+G = E/q = c·d·E/δ (→ −2i c d as k_z → 0), the characteristic matrix times p is
 
-    r ← (r_face + r·p²) / (1 + r_face·r·p²),   t ← t_face·t·p / (1 + r_face·r·p²)
+    p·(u, v)_top = ½ [[1 + p², G], [q·E, 1 + p²]] · (u, v)_bottom
 
-so no growing exponential appears for thick, strongly absorbing or evanescent layers.
+applied without the 1/p (no growing exponential for thick, strongly absorbing or evanescent
+layers) and renormalised each layer; the dropped factors p/scale make up t.  At the entry:
+r = (q_in u − v)/(q_in u + v), t = 2 q_in Π(p/scale)/(q_in u + v).  A layer with k_z = 0
+(grazing in a medium of the entry's ε: a field linear in z) is the smooth limit, and no
+intermediate quantity has a pole (not even a sub-stack's guided mode).
 r is referenced to the entry face, t maps the entry face's field to the exit face's.
+`slab` keeps the textbook Airy formula for one layer (bit-identical with earlier tables) and
+uses the stack recursion only where Airy is degenerate (0/0 or k_z,layer ≈ 0).
 Mitsuba's own formulas use η = n − iκ (the e^(+iωt) convention): `to_mitsuba_convention`
 converts an amplitude (complex conjugate) for a Mueller-matrix renderer.
 """
@@ -60,6 +69,14 @@ def kz(eps, k_parallel, k0) -> np.ndarray:
     return np.where(val.imag < 0, -val, val) if np.ndim(val) else (-val if val.imag < 0 else val)
 
 
+def entry_kz(eps_in, k_parallel, k0) -> np.ndarray:
+    """k_z in the medium light comes from.  A lossless entry medium has k_z = k0·n·cos σ ≥ 0
+    real; an imaginary part there is round-off of k0²ε − k∥² near grazing, and would turn the
+    incident wave evanescent (|r| > 1 over a totally reflecting stack): drop it."""
+    k = kz(eps_in, k_parallel, k0)
+    return k.real + 0j if np.all(np.imag(eps_in) == 0) else k
+
+
 def admittance(k_z, eps, polarisation: str) -> np.ndarray:
     """Face admittance: k_z for TE, k_z/ε for TM (so that one Fresnel formula serves both)."""
     return k_z if polarisation == "te" else k_z / np.asarray(eps, dtype=complex)
@@ -82,6 +99,37 @@ def _interface(q_a, q_b) -> tuple[np.ndarray, np.ndarray]:
     return np.where(ok, (q_a - q_b) / safe, 0.0), np.where(ok, 2.0 * q_a / safe, 1.0)
 
 
+def _airy(q_in, q_l, q_out, k_l, thickness_nm: float) -> tuple[np.ndarray, np.ndarray]:
+    """Airy's formula for one layer from its two faces' Fresnel coefficients."""
+    r01, t01 = _interface(q_in, q_l)
+    r12, t12 = _interface(q_l, q_out)
+    phase = np.exp(1j * k_l * thickness_nm)          # |phase| ≤ 1: stable for any absorption
+    with np.errstate(invalid="ignore", divide="ignore"):     # 0/0 only where slab falls back
+        denom = 1.0 + r01 * r12 * phase**2
+        return (r01 + r12 * phase**2) / denom, t01 * t12 * phase / denom
+
+
+def _fold(q: list, k: list, c: list, thicknesses: list[float]) -> tuple[np.ndarray, np.ndarray]:
+    """(r, t) of a stack by the normalised characteristic-matrix fold of the module docstring."""
+    u, v = np.ones_like(q[-1]), q[-1]
+    gain = 1.0                                      # Π p/scale
+    for j in range(len(thicknesses), 0, -1):
+        delta = k[j] * thicknesses[j - 1]
+        e = -np.expm1(2j * delta)                   # 1 − p², accurate as δ → 0
+        g = c[j] * thicknesses[j - 1] * np.where(delta == 0, -2j, e / np.where(delta == 0, 1.0, delta))
+        u, v = 0.5 * ((2.0 - e) * u + g * v), 0.5 * (q[j] * e * u + (2.0 - e) * v)
+        scale = np.maximum(np.abs(u), np.abs(v))
+        scale = np.where(scale > 0, scale, 1.0)
+        u, v = u / scale, v / scale
+        gain = gain * np.exp(1j * delta) / scale
+    den = q[0] * u + v
+    nothing = den == 0                 # grazing with every medium equal to the entry: no face
+    safe = np.where(nothing, 1.0, den)
+    r = np.where(nothing, 0.0, (q[0] * u - v) / safe)
+    t = np.where(nothing, 1.0, 2.0 * q[0] * gain / safe)
+    return r, t
+
+
 def _check_inputs(n_layers: int, thickness_nm_layers, polarisation: str) -> list[float]:
     if polarisation not in POLARISATIONS:
         raise ValueError(f"polarisation must be one of {POLARISATIONS}, got {polarisation!r}")
@@ -92,19 +140,6 @@ def _check_inputs(n_layers: int, thickness_nm_layers, polarisation: str) -> list
         if not (np.isfinite(d) and d >= 0):
             raise ValueError(f"thickness must be ≥ 0 nm, got {d}")
     return thicknesses
-
-
-def _fold(q: list, k: list, thicknesses: list[float]) -> tuple[np.ndarray, np.ndarray]:
-    """Rouard's recursion from the exit face up: (r, t) of the whole stack at the entry face."""
-    r, t = _interface(q[-2], q[-1])
-    with np.errstate(invalid="ignore", divide="ignore"):    # 0/0: handled by the caller
-        for j in range(len(thicknesses), 0, -1):     # layer j lies between faces j−1|j and j|j+1
-            r_face, t_face = _interface(q[j - 1], q[j])
-            phase = np.exp(1j * k[j] * thicknesses[j - 1])   # |phase| ≤ 1: stable for any absorption
-            denom = 1.0 + r_face * r * phase**2
-            r = (r_face + r * phase**2) / denom
-            t = t_face * t * phase / denom
-    return r, t
 
 
 def stack(eps_layers: Sequence, thickness_nm_layers: Sequence[float], wavelength_nm, sigma_rad, *,
@@ -129,28 +164,15 @@ def stack(eps_layers: Sequence, thickness_nm_layers: Sequence[float], wavelength
     n_in = np.sqrt(np.asarray(eps_in, dtype=complex))
     k_par = k0 * n_in.real * np.sin(np.asarray(sigma_rad, dtype=float))
     media = [eps_in] + [np.asarray(e, dtype=complex) for e in layers] + [eps_out]
-    k = [kz(e, k_par, k0) for e in media]
+    k = [entry_kz(eps_in, k_par, k0)] + [kz(e, k_par, k0) for e in media[1:]]
     q = [admittance(kj, e, polarisation) for kj, e in zip(k, media)]
-    r, t = _fold(q, k, thicknesses)
-    bad = ~(np.isfinite(r) & np.isfinite(t))
-    q_in, q_out = q[0], q[-1]
-    grazing = q_in == 0
-    if np.any(bad & ~grazing):
-        # A layer with k_z = 0 exactly carries a field linear in z, which the two-wave basis
-        # cannot hold (0/0): nudge its k_z by 1e-7·k0 there, a change of O((1e-7·k0·d)²).
-        k_n = k[:1] + [np.where(kj == 0, 1e-7j * k0, kj) for kj in k[1:-1]] + k[-1:]
-        q_n = [admittance(kj, e, polarisation) for kj, e in zip(k_n, media)]
-        r_n, t_n = _fold(q_n, k_n, thicknesses)
-        r, t = np.where(bad, r_n, r), np.where(bad, t_n, t)
-        bad = ~(np.isfinite(r) & np.isfinite(t))
-    if np.any(bad & grazing):
-        # Grazing entry (k_z,in = 0): the fold gives r = −1, t = 0 up to round-off, or 0/0
-        # where 1 + r_face·r·p² vanishes; the limit there is r = −1, t = 0, unless every medium
-        # equals the entry medium (no interface at all: r = 0, t = 1).
-        matched = np.logical_and.reduce([np.broadcast_to(qj == 0, np.shape(r)) for qj in q])
-        fix = bad & grazing
-        r = np.where(fix, np.where(matched, 0.0, -1.0), r)
-        t = np.where(fix, np.where(matched, 1.0, 0.0), t)
+    c = [1.0 if polarisation == "te" else np.asarray(e, dtype=complex) for e in media]
+    r, t = _fold(q, k, c, thicknesses)
+    return _response(r, t, q[0], q[-1])
+
+
+def _response(r, t, q_in, q_out) -> SlabResponse:
+    """Power fractions from amplitudes: R = |r|², T = Re(q_out)/Re(q_in)·|t|²."""
     # Flux ratio Re(q_out)/Re(q_in); zero at grazing incidence, where no flux crosses the faces.
     ratio = np.divide(q_out.real, q_in.real, out=np.zeros(np.broadcast(q_out, q_in).shape),
                       where=q_in.real > 0)
@@ -163,9 +185,25 @@ def slab(eps_layer, thickness_nm: float, wavelength_nm, sigma_rad, *,
 
     `eps_layer` and `wavelength_nm` broadcast together (e.g. shape (nλ, 1)); `sigma_rad` is the
     polar angle in the incident medium (shape (nσ,) broadcasts to (nλ, nσ)).  Grazing σ = π/2
-    is allowed (r = −1, T = 0).  The one-layer case of `stack`.
+    is allowed (r = −1, T = 0).  Equals `stack([eps_layer], [thickness_nm], ...)` to round-off.
     """
-    if thickness_nm < 0:
-        raise ValueError(f"thickness must be ≥ 0 nm, got {thickness_nm}")
-    return stack([eps_layer], [thickness_nm], wavelength_nm, sigma_rad, polarisation=polarisation,
-                 eps_in=eps_in, eps_out=eps_out)
+    _check_inputs(1, [thickness_nm], polarisation)
+    if thickness_nm == 0:
+        return stack([], [], wavelength_nm, sigma_rad, polarisation=polarisation,
+                     eps_in=eps_in, eps_out=eps_out)
+    wl = np.asarray(wavelength_nm, dtype=float)
+    k0 = 2.0 * np.pi / wl
+    n_in = np.sqrt(complex(eps_in))
+    k_par = k0 * n_in.real * np.sin(np.asarray(sigma_rad, dtype=float))
+    eps_layer = np.asarray(eps_layer, dtype=complex)
+    k_in, k_l, k_out = entry_kz(eps_in, k_par, k0), kz(eps_layer, k_par, k0), kz(eps_out, k_par, k0)
+    q_in, q_out = admittance(k_in, eps_in, polarisation), admittance(k_out, eps_out, polarisation)
+    r, t = _airy(q_in, admittance(k_l, eps_layer, polarisation), q_out, k_l, thickness_nm)
+    # Airy's two-wave form is 0/0 or loses digits where the layer's k_z is ~0 (≲ 1e-3·k0):
+    # the stack fold is the smooth limit there.
+    bad = ~(np.isfinite(r) & np.isfinite(t)) | (np.abs(k_l) < 1e-3 * k0)
+    if np.any(bad):
+        fold = stack([eps_layer], [thickness_nm], wl, sigma_rad, polarisation=polarisation,
+                     eps_in=eps_in, eps_out=eps_out)
+        r, t = np.where(bad, fold.r, r), np.where(bad, fold.t, t)
+    return _response(r, t, q_in, q_out)

@@ -21,7 +21,7 @@ import numpy as np
 
 from .. import __version__
 from ..inks import Ink, molecular_eps
-from ..thinfilm import SlabResponse, stack, to_mitsuba_convention
+from ..thinfilm import SlabResponse, slab, stack, to_mitsuba_convention
 from .schema import POLARISATIONS, SCHEMA_VERSION, InkTable
 
 MIXING_RULE = "linear volume-weighted permittivity: eps = (1 - sum f_i) eps_binder + sum f_i eps_i"
@@ -60,11 +60,14 @@ def build_stack_table(layers: Sequence[tuple[Ink, float]], wavelengths_nm, sigma
     eps = [molecular_eps(ink, wl)[:, None] for ink, _ in layers]
     thickness = [d for _, d in layers]
 
+    symmetric = len(layers) == 1                     # air on both sides of one layer
+
     def solve(pol: str, from_below: bool) -> SlabResponse:
+        if symmetric:                                # Airy: the numbers of schema v1 tables
+            return slab(eps[0], thickness[0], wl[:, None], sigma[None, :], polarisation=pol)
         return stack(eps, thickness, wl[:, None], sigma[None, :], polarisation=pol,
                      from_below=from_below)
 
-    symmetric = len(layers) == 1                     # air on both sides of one layer
     te = solve("te", False)
     te_below = te if symmetric else solve("te", True)
     if polarisation == "te":
