@@ -102,8 +102,10 @@ def _meta(t, **changes):
 
 @pytest.mark.parametrize("change, message", [
     (lambda t: replace(t, meta={k: v for k, v in t.meta.items() if k != "polarisation"}),
-     "meta 'polarisation' is None; expected one of 'unpolarised', 'te'"),
-    (lambda t: replace(t, meta=_meta(t, polarisation="tm")), "meta 'polarisation' is 'tm'"),
+     "a 'te' table cannot hold s/p arrays"),                 # unstated means te
+    (lambda t: replace(t, meta=_meta(t, polarisation="tm")),
+     "meta 'polarisation' is 'tm'; expected one of 'unpolarised', 'te'"),
+    (lambda t: replace(t, meta=_meta(t, polarisation=None)), "meta 'polarisation' is None"),
     (lambda t: replace(t, meta=_meta(t, polarisation="te")), "a 'te' table cannot hold s/p arrays"),
     (lambda t: replace(t, r_p=None), "'r_s' and 'r_p' come in pairs; only 'r_s' given"),
     (lambda t: replace(t, Tbar_s=None), "'Tbar_s' and 'Tbar_p' come in pairs; only 'Tbar_p' given"),
@@ -129,3 +131,10 @@ def test_inconsistent_polarisation_data_is_refused(tmp_path, table, change, mess
 def test_s_p_arrays_are_optional_in_an_unpolarised_table(table):
     plain = replace(table, **{k: None for k in SP})
     assert validate(plain).polarisation == "unpolarised" and plain.sp_arrays == {}
+
+
+def test_unstated_polarisation_is_te(table):
+    """Tables of the scalar wave tiers carry no key: they are TE."""
+    te = build_thinfilm_table(parse_ink("R15"), 1000.0, WL, SIGMA, polarisation="te")
+    bare = replace(te, meta={k: v for k, v in te.meta.items() if k != "polarisation"})
+    assert validate(bare).polarisation == "te"

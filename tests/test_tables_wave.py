@@ -94,7 +94,7 @@ def test_molecular_ink_through_the_wave_path_equals_the_exact_tier():
     vox = VoxelFractions(("binder", "air", "R"), fractions, (req.cell_nm, req.cell_nm), (0.0, req.thickness_nm))
     units = [[solve_unit(SolveUnit(req, 0, li, vox)) for li in range(2)]]
     table = reduce_units(req, units, {"schema_version": 1})
-    film = build_thinfilm_table(ink, req.thickness_nm, req.wavelengths_nm, req.sigma_rad)
+    film = build_thinfilm_table(ink, req.thickness_nm, req.wavelengths_nm, req.sigma_rad, polarisation="te")
     for name in ("R_spec", "T_coh", "Rbar", "Tbar"):
         np.testing.assert_allclose(getattr(table, name), getattr(film, name), atol=2e-4)
     assert np.max(table.R) < 1e-6          # a homogeneous layer scatters nothing diffusely

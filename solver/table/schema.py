@@ -18,7 +18,7 @@ All angular integrals use `solver.table.integrals` (exact for the linear interpo
 
 Polarisation (v2; docs/polarisation.md).  meta "polarisation" is "unpolarised" (every column
 is the mean (s + p)/2 of the s and p power fractions) or "te" (s light only: the scalar model
-as it is).  An "unpolarised" table may add, in pairs:
+as it is); absent means "te" (the scalar wave tiers' tables).  An "unpolarised" table may add, in pairs:
 
     r_s, r_p        [nλ, nσ] complex128: amplitude reflection coefficients of the mirror beam,
                     in Mitsuba's `fresnel_polarized` convention (a_s, a_p: Verdet sign of a_p,
@@ -46,6 +46,7 @@ from .integrals import diffuse_albedo
 SCHEMA_VERSION = 2
 READABLE_VERSIONS = (1, 2)
 POLARISATIONS = ("unpolarised", "te")        # meta "polarisation" of a v2 table
+UNSTATED_POLARISATION = "te"                 # v1 tables, and v2 tables without the key
 COLUMNS = ("R_spec", "T_coh", "Rbar", "Tbar", "Rbar_below")
 GRIDS = ("wavelengths", "sigma", "theta", "dphi")
 SP_AMPLITUDES = ("r_s", "r_p")                         # optional, complex [nλ, nσ]
@@ -83,9 +84,9 @@ class InkTable:
 
     @property
     def polarisation(self) -> str:
-        """"unpolarised" or "te" (a version 1 table is "te": the scalar model's s light)."""
-        return self.meta.get("polarisation", "te") if self.meta.get("schema_version") == 1 \
-            else self.meta.get("polarisation")
+        """"unpolarised" or "te" (unstated, as in every version 1 table: "te", the scalar
+        model's s light)."""
+        return self.meta.get("polarisation", UNSTATED_POLARISATION)
 
     @property
     def sp_arrays(self) -> dict:
@@ -176,7 +177,7 @@ def _validate_polarisation(table: InkTable, where: str, version: int) -> None:
         _check("polarisation" not in table.meta and not sp, where,
                "a schema version 1 table has no polarisation data (write it as version 2)")
         return
-    pol = table.meta.get("polarisation")
+    pol = table.polarisation
     _check(pol in POLARISATIONS, where, f"meta 'polarisation' is {pol!r}; expected one of "
            f"{', '.join(map(repr, POLARISATIONS))}")
     _check(pol == "unpolarised" or not sp, where,
