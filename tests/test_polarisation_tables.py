@@ -8,7 +8,8 @@ from test_polarisation_thinfilm import abeles
 
 from solver.inks import molecular_eps, parse_ink
 from solver.table import read_table, write_table
-from solver.table.thinfilm_tier import build_stack_table, build_thinfilm_table
+from solver.inks import InkSpecError
+from solver.table.thinfilm_tier import build_stack_table, build_thinfilm_table, parse_stack, stack_label
 
 WL = np.linspace(380.0, 780.0, 81)
 SIGMA = np.linspace(0.0, np.pi / 2, 19)
@@ -149,3 +150,15 @@ def test_stack_tables_round_trip(tmp_path):
 def test_bad_arguments_are_refused(call, message):
     with pytest.raises(ValueError, match=message):
         call()
+
+
+def test_overprint_specs_parse_top_first():
+    inks = parse_stack("Y15/B7.5+R7.5")
+    assert [i.label for i in inks] == ["Y15", "B7.5+R7.5"]
+    assert stack_label([(i, 500.0) for i in inks]) == "Y15/B7.5+R7.5"
+    assert [i.label for i in parse_stack("R15")] == ["R15"]
+    for bad in ("Y15/", "/B15", "Y15//B15"):
+        with pytest.raises(InkSpecError, match="bad layer stack"):
+            parse_stack(bad)
+    with pytest.raises(InkSpecError, match="Q"):
+        parse_stack("Y15/Q15")

@@ -20,7 +20,7 @@ from typing import Sequence
 import numpy as np
 
 from .. import __version__
-from ..inks import Ink, molecular_eps
+from ..inks import Ink, InkSpecError, molecular_eps, parse_ink
 from ..thinfilm import SlabResponse, slab, stack, to_mitsuba_convention
 from .schema import POLARISATIONS, SCHEMA_VERSION, InkTable
 
@@ -32,6 +32,15 @@ LAYER_SEPARATOR = "/"          # "Y15/B15": Y15 printed on top of B15
 def stack_label(layers: Sequence[tuple[Ink, float]]) -> str:
     """The stack's ink label, top layer first: "Y15/B15"."""
     return LAYER_SEPARATOR.join(ink.label for ink, _ in layers)
+
+
+def parse_stack(spec: str) -> tuple[Ink, ...]:
+    """The inks of an overprint spec, top first: "Y15/B15" → (Y15, B15); "R15" → (R15,)."""
+    parts = spec.split(LAYER_SEPARATOR) if isinstance(spec, str) else [spec]
+    if any(not isinstance(p, str) or not p.strip() for p in parts):
+        raise InkSpecError(f"bad layer stack {spec!r}: expected inks separated by "
+                           f"'{LAYER_SEPARATOR}', top first, e.g. 'Y15{LAYER_SEPARATOR}B15'")
+    return tuple(parse_ink(p) for p in parts)
 
 
 def build_thinfilm_table(ink: Ink, thickness_nm: float, wavelengths_nm, sigma_rad,
