@@ -6,9 +6,8 @@ import numpy as np
 import pytest
 from test_polarisation_thinfilm import abeles
 
-from solver.inks import molecular_eps, parse_ink
+from solver.inks import InkSpecError, molecular_eps, parse_ink
 from solver.table import read_table, write_table
-from solver.inks import InkSpecError
 from solver.table.thinfilm_tier import build_stack_table, build_thinfilm_table, parse_stack, stack_label
 
 WL = np.linspace(380.0, 780.0, 81)
