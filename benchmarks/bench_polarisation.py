@@ -40,8 +40,8 @@ OUT = Path("out/bench")
 def build(spec: str, polarisation: str):
     if "/" in spec:
         layers = [(parse_ink(s), THICKNESS_NM / 2) for s in spec.split("/")]
-        return build_stack_table(layers, WL, SIGMA, polarisation)
-    return build_thinfilm_table(parse_ink(spec), THICKNESS_NM, WL, SIGMA, polarisation)
+        return build_stack_table(layers, WL, SIGMA, polarisation=polarisation)
+    return build_thinfilm_table(parse_ink(spec), THICKNESS_NM, WL, SIGMA, polarisation=polarisation)
 
 
 def lab_seen(table, view_deg: float) -> np.ndarray:

@@ -122,7 +122,9 @@ def main(argv=None) -> int:
     from inkbsdf.imageio import write_exr, write_png
 
     # this entry point is guarded, so spawned table workers are safe here (inkbsdf/source.py)
-    os.environ["INKBSDF_WORKERS"] = str(args.workers or default_workers())
+    from inkbsdf.source import set_build_workers
+
+    set_build_workers(args.workers or default_workers())
     try:
         mi.set_variant(args.variant or inkbsdf.default_variant())
         inkbsdf.register()

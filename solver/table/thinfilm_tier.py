@@ -21,6 +21,7 @@ import numpy as np
 
 from .. import __version__
 from ..inks import Ink, InkSpecError, molecular_eps, parse_ink
+from ..materials import MaterialData
 from ..thinfilm import SlabResponse, slab, stack, to_mitsuba_convention
 from .schema import POLARISATIONS, SCHEMA_VERSION, InkTable
 
@@ -44,17 +45,20 @@ def parse_stack(spec: str) -> tuple[Ink, ...]:
 
 
 def build_thinfilm_table(ink: Ink, thickness_nm: float, wavelengths_nm, sigma_rad,
+                         materials: MaterialData | None = None, *,
                          polarisation: str = DEFAULT_POLARISATION) -> InkTable:
     """Exact table of one homogeneous layer of the ink's molecular-mix permittivity."""
     if not thickness_nm > 0:
         raise ValueError(f"layer thickness must be > 0 nm, got {thickness_nm}")
-    return build_stack_table([(ink, thickness_nm)], wavelengths_nm, sigma_rad, polarisation)
+    return build_stack_table([(ink, thickness_nm)], wavelengths_nm, sigma_rad, materials,
+                             polarisation=polarisation)
 
 
 def build_stack_table(layers: Sequence[tuple[Ink, float]], wavelengths_nm, sigma_rad,
+                      materials: MaterialData | None = None, *,
                       polarisation: str = DEFAULT_POLARISATION) -> InkTable:
     """Exact table of homogeneous layers [(ink, thickness_nm), ...], top layer first, with air
-    above and the air gap to the paper below."""
+    above and the air gap to the paper below (materials: None = the default data)."""
     layers = [(ink, float(d)) for ink, d in layers]
     if not layers:
         raise ValueError("a layer stack needs at least one (ink, thickness_nm) layer")
@@ -66,7 +70,7 @@ def build_stack_table(layers: Sequence[tuple[Ink, float]], wavelengths_nm, sigma
                          f"got {polarisation!r}")
     wl = np.asarray(wavelengths_nm, dtype=float)
     sigma = np.asarray(sigma_rad, dtype=float)
-    eps = [molecular_eps(ink, wl)[:, None] for ink, _ in layers]
+    eps = [molecular_eps(ink, wl, materials)[:, None] for ink, _ in layers]
     thickness = [d for _, d in layers]
 
     symmetric = len(layers) == 1                     # air on both sides of one layer
@@ -122,3 +126,14 @@ def _meta(layers: list[tuple[Ink, float]], wl: np.ndarray, sigma: np.ndarray, po
         meta["layers"] = [{"ink": ink.label, "pigments": [[c, f] for c, f in ink.components],
                            "thickness_nm": d} for ink, d in layers]
     return meta
+
+
+def request_film(request, wavelengths_nm=None, sigma_rad=None, polarisation: str | None = None) -> InkTable:
+    """The exact film of a request's molecular (or mean-ε) layers, one or a stack, on the
+    request's grids or on the given ones (the film tier, the effective-medium tier and the tier
+    probe), for the request's polarisation unless one is given (the tier probe compares with
+    the scalar wave solves: "te")."""
+    return build_stack_table([(layer.ink, layer.thickness_nm) for layer in request.layers],
+                             request.grids.wavelengths_nm if wavelengths_nm is None else wavelengths_nm,
+                             request.grids.sigma_rad if sigma_rad is None else sigma_rad,
+                             request.materials, polarisation=polarisation or request.polarisation)
