@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 from test_polarisation_thinfilm import abeles
 
-from solver.inks import InkSpecError, molecular_eps, parse_ink
+from solver.inks import molecular_eps, parse_ink
 from solver.table import read_table, write_table
-from solver.table.thinfilm_tier import build_stack_table, build_thinfilm_table, parse_stack, stack_label
+from solver.table.thinfilm_tier import build_stack_table, build_thinfilm_table
 
 WL = np.linspace(380.0, 780.0, 81)
 SIGMA = np.linspace(0.0, np.pi / 2, 19)
@@ -106,8 +106,8 @@ def test_stack_table_against_the_characteristic_matrix_from_both_sides():
     y, b = parse_ink("Y15"), parse_ink("B15")
     wl = np.array([420.0, 500.0, 560.0, 650.0, 740.0])
     table = build_stack_table([(y, 600.0), (b, 400.0)], wl, SIGMA)
-    assert table.meta["ink"] == "Y15/B15" and table.meta["thickness_nm"] == 1000.0
-    assert [layer["ink"] for layer in table.meta["layers"]] == ["Y15", "B15"]
+    assert table.meta["ink"] == "Y15/B15" and table.meta["thickness_nm"] == [600.0, 400.0]
+    assert table.meta["pigments"] == [[["Y", 0.15]], [["B", 0.15]]]
     eps = [molecular_eps(y, wl), molecular_eps(b, wl)]
     for i, w in enumerate(wl):
         for j, s in enumerate(SIGMA[:-1]):
@@ -150,14 +150,3 @@ def test_bad_arguments_are_refused(call, message):
     with pytest.raises(ValueError, match=message):
         call()
 
-
-def test_overprint_specs_parse_top_first():
-    inks = parse_stack("Y15/B7.5+R7.5")
-    assert [i.label for i in inks] == ["Y15", "B7.5+R7.5"]
-    assert stack_label([(i, 500.0) for i in inks]) == "Y15/B7.5+R7.5"
-    assert [i.label for i in parse_stack("R15")] == ["R15"]
-    for bad in ("Y15/", "/B15", "Y15//B15"):
-        with pytest.raises(InkSpecError, match="bad layer stack"):
-            parse_stack(bad)
-    with pytest.raises(InkSpecError, match="Q"):
-        parse_stack("Y15/Q15")

@@ -20,7 +20,7 @@ from typing import Sequence
 import numpy as np
 
 from .. import __version__
-from ..inks import Ink, InkSpecError, molecular_eps, parse_ink
+from ..inks import Ink, molecular_eps
 from ..materials import MaterialData
 from ..thinfilm import SlabResponse, slab, stack, to_mitsuba_convention
 from .schema import POLARISATIONS, SCHEMA_VERSION, InkTable
@@ -33,15 +33,6 @@ LAYER_SEPARATOR = "/"          # "Y15/B15": Y15 printed on top of B15
 def stack_label(layers: Sequence[tuple[Ink, float]]) -> str:
     """The stack's ink label, top layer first: "Y15/B15"."""
     return LAYER_SEPARATOR.join(ink.label for ink, _ in layers)
-
-
-def parse_stack(spec: str) -> tuple[Ink, ...]:
-    """The inks of an overprint spec, top first: "Y15/B15" → (Y15, B15); "R15" → (R15,)."""
-    parts = spec.split(LAYER_SEPARATOR) if isinstance(spec, str) else [spec]
-    if any(not isinstance(p, str) or not p.strip() for p in parts):
-        raise InkSpecError(f"bad layer stack {spec!r}: expected inks separated by "
-                           f"'{LAYER_SEPARATOR}', top first, e.g. 'Y15{LAYER_SEPARATOR}B15'")
-    return tuple(parse_ink(p) for p in parts)
 
 
 def build_thinfilm_table(ink: Ink, thickness_nm: float, wavelengths_nm, sigma_rad,
@@ -103,16 +94,20 @@ def build_stack_table(layers: Sequence[tuple[Ink, float]], wavelengths_nm, sigma
 
 
 def _meta(layers: list[tuple[Ink, float]], wl: np.ndarray, sigma: np.ndarray, polarisation: str) -> dict:
+    """The film's meta; a stack lists its pigments and thicknesses per layer, top first (as
+    solver.table.meta.table_meta does)."""
     single = len(layers) == 1
-    meta = {
+    pigments = [[[c, f] for c, f in ink.components] for ink, _ in layers]
+    return {
         "schema_version": SCHEMA_VERSION,
         "polarisation": polarisation,
         "ink": stack_label(layers),
+        "pigments": pigments[0] if single else pigments,
         "particles": "molecular",
-        "thickness_nm": float(sum(d for _, d in layers)),
+        "thickness_nm": layers[0][1] if single else [d for _, d in layers],
         "tier": "thin-film",
         "tier_reason": ("homogeneous layer: exact Airy (transfer-matrix) solution" if single else
-                        "stack of homogeneous layers: exact transfer-matrix (Rouard) solution"),
+                        "stack of homogeneous layers: exact transfer-matrix solution"),
         "mixing_rule": MIXING_RULE,
         "generator": {"name": "inkbsdf.solver", "version": __version__},
         "settings": {"wavelengths_nm": [float(wl[0]), float(wl[-1]), int(wl.size)],
@@ -120,12 +115,6 @@ def _meta(layers: list[tuple[Ink, float]], wl: np.ndarray, sigma: np.ndarray, po
         "seeds": [],
         "errors": {"model": 0.0, "energy_sum_tol": 1e-9},
     }
-    if single:
-        meta["pigments"] = [[c, f] for c, f in layers[0][0].components]
-    else:
-        meta["layers"] = [{"ink": ink.label, "pigments": [[c, f] for c, f in ink.components],
-                           "thickness_nm": d} for ink, d in layers]
-    return meta
 
 
 def request_film(request, wavelengths_nm=None, sigma_rad=None, polarisation: str | None = None) -> InkTable:
