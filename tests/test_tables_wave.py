@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from conftest import process_group
 from solver.geometry import VoxelFractions, eps_grid
 from solver.inks import parse_ink
 from solver.table import read_table
@@ -153,19 +154,6 @@ def test_identical_for_any_number_of_workers_and_on_dask(tmp_path):
     for other in (pool, dask):
         for name in COLUMNS:
             np.testing.assert_array_equal(getattr(other, name), getattr(serial, name))
-
-
-def process_group(pgid: int) -> list[str]:
-    """Command lines of the live (non-zombie) processes in a process group (Linux /proc)."""
-    found = []
-    for stat in Path("/proc").glob("[0-9]*/stat"):
-        try:
-            fields = stat.read_text().rsplit(")", 1)[1].split()
-            if int(fields[2]) == pgid and fields[0] != "Z":
-                found.append((stat.parent / "cmdline").read_bytes().replace(b"\0", b" ").decode()[:120])
-        except (OSError, IndexError, ValueError):
-            continue
-    return found
 
 
 @pytest.mark.slow
