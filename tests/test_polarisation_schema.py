@@ -19,7 +19,7 @@ SP = ("r_s", "r_p", "Rbar_s", "Rbar_p", "Tbar_s", "Tbar_p")
 
 @pytest.fixture()
 def table():
-    return build_thinfilm_table(parse_ink("Y7.5+B7.5"), 1000.0, WL, SIGMA)
+    return build_thinfilm_table(parse_ink("Y7.5+B7.5"), 1000.0, WL, SIGMA, polarisation="unpolarised")
 
 
 def _arrays(t: InkTable) -> dict:

@@ -34,7 +34,7 @@ def airy_film(eps, d, wl, sigma):
 
 
 def test_clear_varnish_is_the_unpolarised_airy_film():
-    table = build_thinfilm_table(parse_ink("clear"), 1000.0, WL, SIGMA)
+    table = build_thinfilm_table(parse_ink("clear"), 1000.0, WL, SIGMA, polarisation="unpolarised")
     film = airy_film(1.558**2, 1000.0, WL[:, None], SIGMA[None, :])
     s, p = film["s"], film["p"]
     assert table.polarisation == "unpolarised" and table.meta["polarisation"] == "unpolarised"
@@ -54,7 +54,7 @@ def test_clear_varnish_is_the_unpolarised_airy_film():
 @pytest.mark.parametrize("spec", ["R15", "Y7.5+B7.5", "G30", "B50"])
 def test_ink_tables_are_the_mean_of_s_and_p(spec):
     ink = parse_ink(spec)
-    table = build_thinfilm_table(ink, 1000.0, WL, SIGMA)
+    table = build_thinfilm_table(ink, 1000.0, WL, SIGMA, polarisation="unpolarised")
     film = airy_film(molecular_eps(ink, WL)[:, None], 1000.0, WL[:, None], SIGMA[None, :])
     np.testing.assert_allclose(table.R_spec, (film["s"][1] + film["p"][1]) / 2, atol=1e-6)
     np.testing.assert_allclose(table.Tbar, (film["s"][2] + film["p"][2]) / 2, atol=1e-6)
@@ -105,7 +105,7 @@ def test_stack_table_against_the_characteristic_matrix_from_both_sides():
     one Tbar for both directions (reciprocity), s and p parts."""
     y, b = parse_ink("Y15"), parse_ink("B15")
     wl = np.array([420.0, 500.0, 560.0, 650.0, 740.0])
-    table = build_stack_table([(y, 600.0), (b, 400.0)], wl, SIGMA)
+    table = build_stack_table([(y, 600.0), (b, 400.0)], wl, SIGMA, polarisation="unpolarised")
     assert table.meta["ink"] == "Y15/B15" and table.meta["thickness_nm"] == [600.0, 400.0]
     assert table.meta["pigments"] == [[["Y", 0.15]], [["B", 0.15]]]
     eps = [molecular_eps(y, wl), molecular_eps(b, wl)]
@@ -124,16 +124,16 @@ def test_stack_table_against_the_characteristic_matrix_from_both_sides():
 
 def test_stack_of_one_layer_and_of_split_layers_is_the_film():
     ink = parse_ink("G30")
-    film = build_thinfilm_table(ink, 1000.0, WL, SIGMA)
-    one = build_stack_table([(ink, 1000.0)], WL, SIGMA)
-    split = build_stack_table([(ink, 250.0), (ink, 750.0)], WL, SIGMA)
+    film = build_thinfilm_table(ink, 1000.0, WL, SIGMA, polarisation="unpolarised")
+    one = build_stack_table([(ink, 1000.0)], WL, SIGMA, polarisation="unpolarised")
+    split = build_stack_table([(ink, 250.0), (ink, 750.0)], WL, SIGMA, polarisation="unpolarised")
     for name in ("R_spec", "T_coh", "Rbar", "Tbar", "Rbar_below", "r_s", "r_p", "Rbar_p", "Tbar_p"):
         np.testing.assert_array_equal(getattr(one, name), getattr(film, name))
         np.testing.assert_allclose(getattr(split, name), getattr(film, name), atol=1e-13)
 
 
 def test_stack_tables_round_trip(tmp_path):
-    table = build_stack_table([(parse_ink("Y15"), 500.0), (parse_ink("B15"), 500.0)], WL, SIGMA)
+    table = build_stack_table([(parse_ink("Y15"), 500.0), (parse_ink("B15"), 500.0)], WL, SIGMA, polarisation="unpolarised")
     back = read_table(write_table(tmp_path / "yb.npz", table))
     for name in ("R_spec", "Rbar_below", "r_s", "r_p", "Rbar_s", "Tbar_p"):
         np.testing.assert_array_equal(getattr(back, name), getattr(table, name))

@@ -23,11 +23,10 @@ from .. import __version__
 from ..inks import Ink, molecular_eps
 from ..materials import MaterialData
 from ..thinfilm import SlabResponse, slab, stack, to_mitsuba_convention
+from .request import DEFAULT_POLARISATION, LAYER_SEPARATOR
 from .schema import POLARISATIONS, SCHEMA_VERSION, InkTable
 
 MIXING_RULE = "linear volume-weighted permittivity: eps = (1 - sum f_i) eps_binder + sum f_i eps_i"
-DEFAULT_POLARISATION = "unpolarised"
-LAYER_SEPARATOR = "/"          # "Y15/B15": Y15 printed on top of B15
 
 
 def stack_label(layers: Sequence[tuple[Ink, float]]) -> str:
