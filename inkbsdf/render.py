@@ -211,7 +211,9 @@ def _main(argv) -> int:
     from solver.table.executor import default_workers
 
     # this entry point is guarded, so spawned table workers are safe here (inkbsdf/source.py)
-    os.environ["INKBSDF_WORKERS"] = str(args.workers or default_workers())
+    from inkbsdf.source import set_build_workers
+
+    set_build_workers(args.workers or default_workers())
     try:
         variant = select_variant(args.variant)
     except VariantError as exc:

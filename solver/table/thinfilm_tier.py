@@ -10,19 +10,21 @@ import numpy as np
 
 from .. import __version__
 from ..inks import Ink, molecular_eps
+from ..materials import MaterialData
 from ..thinfilm import slab
 from .schema import SCHEMA_VERSION, InkTable
 
 MIXING_RULE = "linear volume-weighted permittivity: eps = (1 - sum f_i) eps_binder + sum f_i eps_i"
 
 
-def build_thinfilm_table(ink: Ink, thickness_nm: float, wavelengths_nm, sigma_rad) -> InkTable:
+def build_thinfilm_table(ink: Ink, thickness_nm: float, wavelengths_nm, sigma_rad,
+                         materials: MaterialData | None = None) -> InkTable:
     """Exact table of a homogeneous layer of the ink's molecular-mix permittivity."""
     if not thickness_nm > 0:
         raise ValueError(f"layer thickness must be > 0 nm, got {thickness_nm}")
     wl = np.asarray(wavelengths_nm, dtype=float)
     sigma = np.asarray(sigma_rad, dtype=float)
-    eps = molecular_eps(ink, wl)[:, None]
+    eps = molecular_eps(ink, wl, materials)[:, None]
     film = slab(eps, thickness_nm, wl[:, None], sigma[None, :])
     R_spec, T_coh = film.R, film.T
     theta = np.array([0.0, np.pi / 2])
@@ -46,3 +48,13 @@ def build_thinfilm_table(ink: Ink, thickness_nm: float, wavelengths_nm, sigma_ra
                     R=np.zeros((wl.size, sigma.size, 2, 2)),
                     R_spec=R_spec, T_coh=T_coh, Rbar=R_spec.copy(), Tbar=T_coh.copy(),
                     Rbar_below=R_spec.copy(), meta=meta)
+
+
+def request_film(request, wavelengths_nm=None, sigma_rad=None) -> InkTable:
+    """The exact film of a request's (single, molecular or mean-ε) layer on the request's grids
+    or on the given ones (the film tier, the effective-medium tier and the tier probe)."""
+    layer = request.layer
+    return build_thinfilm_table(layer.ink, layer.thickness_nm,
+                                request.grids.wavelengths_nm if wavelengths_nm is None else wavelengths_nm,
+                                request.grids.sigma_rad if sigma_rad is None else sigma_rad,
+                                request.materials)
