@@ -10,16 +10,17 @@ caller up to the script's top level, tens of lines under pytest or Jupyter), the
 
 `plugin_factory` wraps the BSDF class for `mi.register_bsdf`: an input error (bad parameter
 value or type, unusable table file or cache) is raised as a short exception (InkParameterError,
-or the TableError / VariantError that was raised) whose traceback is a single frame with no
-callers, so <what> is three lines whatever the caller's stack, the cause on the last one. A bug
-(any other exception) keeps its whole traceback.
+or the TableError / CacheError / VariantError that was raised) whose traceback is a single frame
+with no callers, so <what> is three lines whatever the caller's stack, the cause on the last
+one, worded for a scene (parameter 'thickness', not the `ink-tables` option --thickness). A bug
+(any other exception) keeps its whole traceback. `loader_problem` turns Mitsuba's message back
+into one line for the command line.
 """
 
 from __future__ import annotations
 
 import re
 import types
-from pathlib import Path
 
 from solver.table import TableError
 
@@ -57,8 +58,6 @@ def plugin_factory(cls):
 
 
 # ------------------------------------------------------------------- input errors, explained
-_CONVERSIONS = ((re.compile(r"could not convert string to float: '(.*)'"), "float", "a number"),
-                (re.compile(r"invalid literal for int\(\) with base 10: '(.*)'"), "integer", "an integer"))
 _WRONG_TYPE = re.compile(r'The property "(\w+)" has the wrong type \(expected ([\w/]+), got (\w+)\)')
 #: XML element of each Mitsuba property type, simplest first (the example given in a fix).
 _XML = {"float": '<float name="{0}" value="…"/>', "integer": '<integer name="{0}" value="…"/>',
@@ -69,13 +68,14 @@ _XML = {"float": '<float name="{0}" value="…"/>', "integer": '<integer name="{
 
 def input_error(exc: Exception, props) -> Exception | None:
     """The short exception telling the user what to fix, or None when `exc` is a bug."""
-    if isinstance(exc, ValueError):                        # TableError, InkParameterError included
-        return _conversion_error(str(exc), props) or exc
+    if isinstance(exc, ValueError):            # TableError, CacheError, InkParameterError, …
+        message = scene_wording(str(exc))
+        return exc if message == str(exc) else InkParameterError(message)
     if isinstance(exc, VariantError):
         return exc
     if isinstance(exc, OSError):
-        return _os_error(exc, props)
-    match = _WRONG_TYPE.search(str(exc))                   # Mitsuba's props.get_texture & co.
+        return TableError(f"ink BSDF: cannot use {exc.filename or 'a file'}: {exc.strerror or exc}")
+    match = _WRONG_TYPE.search(str(exc))       # Mitsuba's props.get_texture & co.
     if match:
         name, expected, got = match.groups()
         kinds = sorted(expected.split("/"), key=lambda k: list(_XML).index(k) if k in _XML else len(_XML))
@@ -85,33 +85,20 @@ def input_error(exc: Exception, props) -> Exception | None:
     return None
 
 
-def _conversion_error(message: str, props) -> InkParameterError | None:
-    """A failed int()/float() of a string parameter, named: which parameter holds that string."""
-    for pattern, kind, what in _CONVERSIONS:
-        match = pattern.search(message)
-        if not match:
-            continue
-        literal = match.group(1)
-        for name in props.keys():
-            if str(props.type(name)).endswith("String") and props.get(name) == literal \
-                    and f"'{name}'" not in message:
-                return InkParameterError(f"ink BSDF: parameter '{name}' is '{literal}', not {what}: "
-                                         f"write e.g. {_XML[kind].format(name)}")
-    return None
+def scene_wording(message: str) -> str:
+    """A table-request message as said to a scene: the `ink-tables` options it names (shared
+    checks, solver/table/request.py) become the BSDF's parameters (`--thickness` → parameter
+    'thickness'); a doubled "ink BSDF:" prefix is said once."""
+    from solver.table.request import OPTION
 
+    from .source import REQUEST_PARAMS
 
-def _os_error(exc: OSError, props) -> Exception:
-    """A file problem: the table cache (named with the setting that chose it) or another file."""
-    from solver.table.cache import default_root
-
-    where = Path(exc.filename) if exc.filename else None
-    if "ink" in props:
-        root = Path(str(props.get("cache"))) if "cache" in props else default_root()
-        setting = "its 'cache' parameter" if "cache" in props else "$INKBSDF_CACHE"
-        if where is not None and (where == root or root in where.parents):
-            return InkParameterError(f"ink BSDF: the table cache {root} is not usable "
-                                     f"({exc.strerror}: {where}): set {setting} to a writable folder")
-    return TableError(f"ink BSDF: {where or ''}: {exc.strerror or exc}")
+    parameter = {OPTION[arg]: name for name, arg in REQUEST_PARAMS.items() if arg in OPTION}
+    parameter.update({"--cache": "cache", "--workers": "workers"})
+    message = re.sub(r"(?<![\w-])(--[a-z][\w-]*)",
+                     lambda m: f"parameter '{parameter[m.group(1)]}'" if m.group(1) in parameter else m.group(1),
+                     message)
+    return re.sub(r"^(ink BSDF:? )+(?=ink BSDF)", "", message)
 
 
 # --------------------------------------------------------- Mitsuba's messages, read back
@@ -155,8 +142,8 @@ def loader_problem(exc: BaseException) -> str:
     return f"{where}: {cause}" if where and where not in cause else cause
 
 
-def _unreferenced(plugin: tuple, items: list) -> str:
-    kind, name = plugin
+def _unreferenced(kind_and_name: tuple, items: list) -> str:
+    kind, name = kind_and_name
     found = [m.groups() for m in map(_UNREFERENCED_ITEM.search, items) if m]
     listed = ", ".join(f"'{prop}' ({ptype} {value})" for ptype, prop, value in found) or "?"
     docs = " (docs/plugin.md lists the ink BSDF's parameters)" if name == "ink" else ""

@@ -26,6 +26,11 @@ from pathlib import Path
 from .errors import loader_problem
 
 
+#: Samples (pixels × spp) one `mi.render` can take: above it Mitsuba 3.9 splits the render into
+#: passes, and that segfaults (probed: 2×2 px × 1.1e9 spp).
+MAX_SAMPLES = 2**32
+
+
 @dataclass(frozen=True)
 class RenderResult:
     image: object            # linear RGB, numpy [H, W, 3]
@@ -191,6 +196,9 @@ def main(argv=None) -> int:
     except (UsageError, SceneLoadError, ValueError) as exc:      # TableError is a ValueError
         print(f"error: {exc}", file=sys.stderr)
         return 2
+    except OSError as exc:                                        # e.g. an unreadable scene file
+        print(f"error: {exc.filename or ''}: {exc.strerror or exc}", file=sys.stderr)
+        return 2
     finally:
         warnings.formatwarning = formatwarning
 
@@ -220,10 +228,16 @@ def _main(argv) -> int:
         raise UsageError(f"--variant: {exc}") from None
     inkbsdf.register()
     t0 = time.perf_counter()
-    scene = load_scene(args.scene, tables=args.tables, width=args.width, height=args.height, spp=args.spp)
+    try:
+        scene = load_scene(args.scene, tables=args.tables, width=args.width, height=args.height, spp=args.spp)
+    finally:
+        set_build_workers(None)                # process-wide: for this command's scene load only
     load_s = time.perf_counter() - t0
     spp = args.spp or scene_spp(scene)
     w, h = scene.sensors()[0].film().crop_size()
+    if w * h * spp > MAX_SAMPLES:
+        raise UsageError(f"{w}×{h} pixels × {spp} spp = {w * h * spp:,} samples, over Mitsuba's limit of "
+                         f"2^32 per render (its multi-pass fallback crashes in 3.9): lower --spp or the size")
     print(f"{args.scene}: {w}×{h}, {spp} spp" + (" (the scene's default)" if args.spp is None else "")
           + f", {variant}: rendering…", flush=True)
     image, render_s = render_loaded(scene, args.spp, args.seed)
@@ -241,15 +255,11 @@ def run(argv=None) -> int:
     """`python -m inkbsdf.render`: `main` in a worker thread while this (main) thread waits, so
     that Ctrl-C stops a render or a table build within ~0.1 s (the render's kernel runs without
     returning to Python), stops the table workers and exits 130 without a traceback."""
-    import signal
     import threading
 
     outcome: dict = {}
 
     def work():
-        # table workers this thread spawns inherit the mask: Ctrl-C at a terminal reaches only
-        # this process (no traceback from each worker); they are stopped below
-        signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
         try:
             outcome["status"] = main(argv)
         except BaseException as exc:      # a bug: re-raised in the main thread, with its traceback
@@ -273,9 +283,9 @@ def run(argv=None) -> int:
     return outcome["status"]
 
 
-def _stop_children(timeout_s: float = 2.0) -> int:
-    """Terminate the worker processes this process started (table builds), by their handles;
-    return how many there were."""
+def _stop_children(timeout_s: float = 2.0) -> None:
+    """Terminate the worker processes this process started (a table build's pool), by their
+    handles (they also die with this process: solver/table/executor.py)."""
     import multiprocessing
 
     children = multiprocessing.active_children()
@@ -286,7 +296,6 @@ def _stop_children(timeout_s: float = 2.0) -> int:
         child.join(max(0.0, deadline - time.monotonic()))
         if child.is_alive():
             child.kill()
-    return len(children)
 
 
 if __name__ == "__main__":

@@ -135,6 +135,7 @@ def _bad_cases(tmp, tables, unwritable):
         "exposure nan": (base + ["--exposure", "nan", "--png", str(tmp / "x.png")], "--exposure"),
         "exposure inf": (base + ["--exposure", "inf", "--png", str(tmp / "x.png")], "--exposure"),
         "output not exr": ([scene, "--tables", str(tables), "-o", str(tmp / "x.png")], ".exr"),
+        "too many samples": (base + ["--width", "2", "--height", "2", "--spp", "1100000000"], "2^32"),
         "png not png": (base + ["--png", str(tmp / "x.jpg")], "--png"),
         "output in a file": ([scene, "-o", str(tables / "R30.npz" / "x.exr")], "not a folder"),
         "output read-only": ([scene, "-o", str(unwritable / "x.exr")], "cannot write in"),
@@ -151,10 +152,10 @@ def _bad_cases(tmp, tables, unwritable):
                            "-o", exr], "'papr'"),
         "cache is a file": ([str(bare_scene(tmp, '<string name="ink" value="R30"/><string name="cache" '
                                                  f'value="{tables / "R30.npz"}"/>', name="c.xml")),
-                             "-o", exr], "'cache' parameter"),
+                             "-o", exr], "is a file, not a folder"),
         "cache read-only": ([str(bare_scene(tmp, '<string name="ink" value="R30"/><string name="cache" '
                                                  f'value="{unwritable / "cache"}"/>', name="r.xml")),
-                             "-o", exr], "writable folder"),
+                             "-o", exr], "writable folder with parameter 'cache'"),
     }
 
 
