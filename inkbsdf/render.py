@@ -184,23 +184,23 @@ def check_output(path, suffix: str, option: str) -> Path:
     return path
 
 
-def _one_line_warning(message, category, filename, lineno, line=None):
-    return f"warning: {message}\n"
+def _print_warning(message, category, filename, lineno, file=None, line=None):
+    print(f"warning: {message}", file=sys.stderr)
 
 
 def main(argv=None) -> int:
-    """The command; returns the exit status (2: bad input, told in one line on stderr)."""
-    formatwarning, warnings.formatwarning = warnings.formatwarning, _one_line_warning
-    try:
-        return _main(argv)
-    except (UsageError, SceneLoadError, ValueError) as exc:      # TableError is a ValueError
-        print(f"error: {exc}", file=sys.stderr)
-        return 2
-    except OSError as exc:                                        # e.g. an unreadable scene file
-        print(f"error: {exc.filename or ''}: {exc.strerror or exc}", file=sys.stderr)
-        return 2
-    finally:
-        warnings.formatwarning = formatwarning
+    """The command; returns the exit status (2: bad input, told in one line on stderr).
+    Warnings are said as one `warning: …` line each on stderr."""
+    with warnings.catch_warnings():
+        warnings.showwarning = _print_warning
+        try:
+            return _main(argv)
+        except (UsageError, SceneLoadError, ValueError) as exc:      # TableError is a ValueError
+            print(f"error: {exc}", file=sys.stderr)
+            return 2
+        except OSError as exc:                                        # e.g. an unreadable scene file
+            print(f"error: {exc.filename or ''}: {exc.strerror or exc}", file=sys.stderr)
+            return 2
 
 
 def _main(argv) -> int:

@@ -73,8 +73,8 @@ def test_scene_without_parameters_renders_and_says_what_it_ignored(tmp_path, ink
     assert scene_parameter_names(scene.read_text()) == set()
     assert scene_parameter_names(Path(SCENE).read_text()) >= {"tables", "width", "height", "spp", "paper"}
     exr = tmp_path / "bare.exr"
-    with pytest.warns(UserWarning, match=r"takes no parameter \$width; ignored"):
-        assert main([str(scene), "--spp", "2", "--width", "64", "-o", str(exr)]) == 0
+    assert main([str(scene), "--spp", "2", "--width", "64", "-o", str(exr)]) == 0
+    assert capsys.readouterr().err == f"warning: {scene} takes no parameter $width; ignored\n"
     from inkbsdf.imageio import read_exr
 
     assert read_exr(exr).shape == (12, 16, 3)          # the scene's own film, not --width
@@ -354,3 +354,22 @@ def test_image_writers_check_the_extension(tmp_path):
     with pytest.raises(ValueError, match=r"must end in \.png"):
         write_png(tmp_path / "x.exr", image)
     assert write_exr(tmp_path / "UPPER.EXR", image).exists()
+
+
+def test_cli_says_non_finite_pixels_in_one_warning_line(tmp_path, ink_tables, monkeypatch, capsys):
+    """A render with NaN pixels (a stand-in for a broken scene): the PNG is written, and stderr
+    says how many pixels, in one `warning:` line (no source-line echo)."""
+    import inkbsdf.render as render
+
+    def broken_render(scene, spp=None, seed=0):
+        image = np.full((10, 12, 3), 0.25, dtype=np.float32)
+        image[2:4, 5] = np.nan
+        return image, 0.0
+
+    monkeypatch.setattr(render, "render_loaded", broken_render)
+    r30 = table_param(ink_tables["R30"])
+    code = main([str(bare_scene(tmp_path, r30)), "-o", str(tmp_path / "n.exr"), "--png", str(tmp_path / "n.png")])
+    err = capsys.readouterr().err
+    assert code == 0 and (tmp_path / "n.png").exists()
+    assert err.strip().splitlines() == [f"warning: {tmp_path / 'n.png'}: 2 of 120 pixels are NaN or infinite "
+                                        "(NaN written black, ±inf clipped): the render has a problem"]
