@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from conftest import process_group
 from solver.geometry import VoxelFractions, eps_grid
 from solver.inks import parse_ink
 from solver.table import read_table
@@ -94,7 +95,8 @@ def test_molecular_ink_through_the_wave_path_equals_the_exact_tier():
     vox = VoxelFractions(("binder", "air", "R"), fractions, (req.wave.cell_nm,) * 2, (0.0, req.thickness_nm))
     units = [[solve_unit(SolveUnit(req, 0, li, vox)) for li in range(2)]]
     table = reduce_units(req, units, {"schema_version": 1})
-    film = build_thinfilm_table(ink, req.thickness_nm, req.grids.wavelengths_nm, req.grids.sigma_rad)
+    film = build_thinfilm_table(ink, req.thickness_nm, req.grids.wavelengths_nm, req.grids.sigma_rad,
+                                polarisation="te")    # the scalar wave path is TE
     for name in ("R_spec", "T_coh", "Rbar", "Tbar"):
         np.testing.assert_allclose(getattr(table, name), getattr(film, name), atol=2e-4)
     assert np.max(table.R) < 1e-6          # a homogeneous layer scatters nothing diffusely
@@ -102,7 +104,8 @@ def test_molecular_ink_through_the_wave_path_equals_the_exact_tier():
 
 def test_molecular_request_is_the_exact_tier(tmp_path):
     table, _, built = get_or_build(table_request("Y12.5+B2.5"), opts(tmp_path))
-    film = build_thinfilm_table(parse_ink("Y12.5+B2.5"), 1000.0, table.wavelengths, table.sigma)
+    film = build_thinfilm_table(parse_ink("Y12.5+B2.5"), 1000.0, table.wavelengths, table.sigma,
+                                polarisation=table.polarisation)
     assert built and table.meta["tier"] == "thin-film"
     for name in COLUMNS:
         np.testing.assert_array_equal(getattr(table, name), getattr(film, name))
@@ -151,19 +154,6 @@ def test_identical_for_any_number_of_workers_and_on_dask(tmp_path):
     for other in (pool, dask):
         for name in COLUMNS:
             np.testing.assert_array_equal(getattr(other, name), getattr(serial, name))
-
-
-def process_group(pgid: int) -> list[str]:
-    """Command lines of the live (non-zombie) processes in a process group (Linux /proc)."""
-    found = []
-    for stat in Path("/proc").glob("[0-9]*/stat"):
-        try:
-            fields = stat.read_text().rsplit(")", 1)[1].split()
-            if int(fields[2]) == pgid and fields[0] != "Z":
-                found.append((stat.parent / "cmdline").read_bytes().replace(b"\0", b" ").decode()[:120])
-        except (OSError, IndexError, ValueError):
-            continue
-    return found
 
 
 @pytest.mark.slow

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import logging
+import os
 import time
 from pathlib import Path
 
@@ -100,9 +101,23 @@ def options_from_args(args) -> BuildOptions:
     return BuildOptions(scheduler=args.scheduler, progress=not args.no_progress, cache=cache, **kw)
 
 
+def check_output(path: Path, suffix: str = ".npz", option: str = "-o") -> Path:
+    """Refuse an output path that cannot be written, before any work."""
+    if path.suffix.lower() != suffix:
+        raise ValueError(f"{option} {path}: expected a {suffix} file name")
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise ValueError(f"{option} {path}: cannot create the folder {path.parent} ({exc.strerror})") from None
+    if path.is_dir() or not os.access(path.parent, os.W_OK):
+        raise ValueError(f"{option} {path}: cannot write there (a folder, or not writable)")
+    return path
+
+
 def run(args) -> int:
     request = request_from_args(args)
     opts = options_from_args(args)
+    check_output(Path(args.output))
     t0 = time.perf_counter()
     table, cached_path, built = get_or_build(request, opts)
     out = Path(args.output)
