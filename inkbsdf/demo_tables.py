@@ -25,3 +25,32 @@ def build_tables(folder, inks=DEMO_INKS, overwrite=True, **request_options) -> d
             write_table(path, build_table(table_request(ink, **request_options)))
         paths[ink] = path
     return paths
+
+
+def main(argv=None) -> int:
+    """`python -m inkbsdf.demo_tables OUTDIR`: (re)build the demo tables that are missing or
+    unreadable (what `make tables` runs)."""
+    import sys
+
+    from solver.table import TableError, read_table
+
+    args = sys.argv[1:] if argv is None else argv
+    if len(args) != 1:
+        print("usage: python -m inkbsdf.demo_tables OUTDIR", file=sys.stderr)
+        return 2
+    folder = Path(args[0])
+    for ink in DEMO_INKS:
+        path = folder / f"{ink}.npz"
+        try:
+            read_table(path)
+            continue
+        except TableError as exc:
+            if path.exists():
+                print(f"rebuilding {path}: {exc}")
+        build_tables(folder, [ink])
+        print(f"wrote {path}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -14,6 +14,7 @@ from __future__ import annotations
 import drjit as dr
 import mitsuba as mi
 
+from .errors import plugin_factory
 from .model import InkModel
 from .source import load_table
 from .variant import check_variant
@@ -155,5 +156,5 @@ def register() -> str:
     Call again after `mitsuba.set_variant`: Mitsuba's plugin registry is per variant.
     """
     cls = bsdf_class()
-    mi.register_bsdf(PLUGIN_NAME, lambda props: cls(props))
+    mi.register_bsdf(PLUGIN_NAME, plugin_factory(cls))    # bad input: a short error (inkbsdf/errors.py)
     return mi.variant()

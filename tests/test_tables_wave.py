@@ -95,7 +95,8 @@ def test_molecular_ink_through_the_wave_path_equals_the_exact_tier():
     vox = VoxelFractions(("binder", "air", "R"), fractions, (req.wave.cell_nm,) * 2, (0.0, req.thickness_nm))
     units = [[solve_unit(SolveUnit(req, 0, li, vox)) for li in range(2)]]
     table = reduce_units(req, units, {"schema_version": 1})
-    film = build_thinfilm_table(ink, req.thickness_nm, req.grids.wavelengths_nm, req.grids.sigma_rad)
+    film = build_thinfilm_table(ink, req.thickness_nm, req.grids.wavelengths_nm, req.grids.sigma_rad,
+                                polarisation="te")    # the scalar wave path is TE
     for name in ("R_spec", "T_coh", "Rbar", "Tbar"):
         np.testing.assert_allclose(getattr(table, name), getattr(film, name), atol=2e-4)
     assert np.max(table.R) < 1e-6          # a homogeneous layer scatters nothing diffusely
@@ -103,7 +104,8 @@ def test_molecular_ink_through_the_wave_path_equals_the_exact_tier():
 
 def test_molecular_request_is_the_exact_tier(tmp_path):
     table, _, built = get_or_build(table_request("Y12.5+B2.5"), opts(tmp_path))
-    film = build_thinfilm_table(parse_ink("Y12.5+B2.5"), 1000.0, table.wavelengths, table.sigma)
+    film = build_thinfilm_table(parse_ink("Y12.5+B2.5"), 1000.0, table.wavelengths, table.sigma,
+                                polarisation=table.polarisation)
     assert built and table.meta["tier"] == "thin-film"
     for name in COLUMNS:
         np.testing.assert_array_equal(getattr(table, name), getattr(film, name))

@@ -127,10 +127,11 @@ def build_table(request: TableRequest, opts: BuildOptions | None = None) -> InkT
     opts = opts or BuildOptions()
     timer = _Timer()
     if request.molecular:
-        if len(request.layers) > 1:
-            raise RequestError(f"{request.ink_label}: multilayer films are not available yet")
         return _film_table(request, "thin-film", "homogeneous layer: exact Airy (transfer-matrix) solution",
                            timer)
+    if request.polarisation != "te":
+        raise RequestError(f"--polarisation {request.polarisation}: particle inks are solved for TE light only "
+                           "so far; use --polarisation te")
     from .wave_ensemble import reduce_units
     from .wave_tier import realization_seed
 

@@ -30,6 +30,7 @@ from ..geometry.spec import MOLECULAR_WORDS, ParticleSpec, parse_particles
 from ..inks import Ink, parse_ink
 from ..materials import MaterialData, default_materials
 from .fingerprint import code_fingerprint
+from .schema import POLARISATIONS
 
 
 class RequestError(ValueError):
@@ -38,9 +39,9 @@ class RequestError(ValueError):
 
 # ---------------------------------------------------------------------------- the defaults
 DEFAULT_THICKNESS_NM = 1000.0
-#: polarisations a table can be computed for (docs/design.md §1)
-POLARISATIONS = ("unpolarised", "te")
 DEFAULT_POLARISATION = "te"
+#: "Y15/B15": Y15 printed over B15 (layers top first)
+LAYER_SEPARATOR = "/"
 #: molecular inks (exact thin film, cheap): 10-nm steps and 46 uniform incidence angles
 FILM_WAVELENGTH_STEP_NM = 10.0
 FILM_SIGMA_COUNT = 46
@@ -156,12 +157,12 @@ class TableRequest:
 
     @property
     def ink_label(self) -> str:
-        return "/".join(layer.ink.label for layer in self.layers)
+        return LAYER_SEPARATOR.join(layer.ink.label for layer in self.layers)
 
     @property
     def particles_label(self) -> str:
         labels = [layer.particles_label for layer in self.layers]
-        return labels[0] if len(set(labels)) == 1 else "/".join(labels)
+        return labels[0] if len(set(labels)) == 1 else LAYER_SEPARATOR.join(labels)
 
     @property
     def thickness_nm(self) -> float:
@@ -247,9 +248,9 @@ def _default_wavelengths(step_nm: float) -> tuple[float, ...]:
 def _layers(ink, particles, thickness_nm) -> tuple[Layer, ...]:
     if isinstance(ink, (tuple, list)) and ink and all(isinstance(x, Layer) for x in ink):
         return tuple(ink)
-    inks = [parse_ink(x) for x in (ink.split("/") if isinstance(ink, str) else [ink])]
+    inks = [parse_ink(x) for x in (ink.split(LAYER_SEPARATOR) if isinstance(ink, str) else [ink])]
     if isinstance(particles, str):
-        parts = [p for p in particles.split("/")]
+        parts = particles.split(LAYER_SEPARATOR)
     else:
         parts = [particles]
     if len(parts) == 1:
