@@ -3,7 +3,6 @@
 import csv
 import subprocess
 import sys
-from pathlib import Path
 
 import matplotlib.image
 import numpy as np
@@ -12,9 +11,9 @@ import pytest
 import solver.figures.cells as cells_mod
 from solver.cli import main
 from solver.figures.cells import FigureSettings, across_particles, build_cells, plan_cells
-from solver.figures.draw import compose
+from solver.figures.draw import RULE_GREY
 from solver.figures.fig6 import crossed_out, figure6
-from solver.figures.layout import CellGeometry, GridLayout, grid_labels
+from solver.figures.layout import CellGeometry, GridLayout, grid_labels, header_rules
 from solver.figures.make import grid_caption, spectra_panels
 from solver.figures.paper_grid import TITLES, parse_columns, parse_rows
 from solver.inks import molecular_eps, parse_ink
@@ -24,7 +23,7 @@ from solver.table.schema import read_table
 
 TINY = ["--wavelengths", "450:650:100", "--angles", "3", "--grid", "16", "16", "8", "--realizations", "2",
         "--azimuths", "1", "--tier", "full", "--workers", "1", "--no-progress"]
-ROWS, COLUMNS = "Y7.5+B7.5", "molecular,sphere:300"
+ROWS, COLUMNS = "Y7.5+B7.5", "molecular,sphere:300,sphere:300:rough"
 
 
 def read_png(path) -> np.ndarray:
@@ -51,11 +50,12 @@ def layout_of(n_rows, n_cols, has_sub=True):
 def test_tiny_fig7_layout_csv_and_cache_hits(tmp_path, monkeypatch):
     out = run_fig7(tmp_path, extra=["--report", str(tmp_path / "f.md")])
     image = read_png(out)
-    layout = layout_of(1, 2)          # sphere:300 has the sub-label 'normal'
+    layout = layout_of(1, 3)          # sphere:300 has the sub-label 'normal'
     assert image.shape[1::-1] == layout.size
 
     rows = read_rows(out.with_suffix(".csv"))
-    assert [(r["ink"], r["column"]) for r in rows] == [("Y7.5+B7.5", "molecular"), ("Y7.5+B7.5", "sphere:300")]
+    assert [(r["ink"], r["column"]) for r in rows] == [("Y7.5+B7.5", "molecular"), ("Y7.5+B7.5", "sphere:300"),
+                                                       ("Y7.5+B7.5", "sphere:300:rough")]
     cache = tmp_path / "cache" / "tables"
     tables = []
     for r in rows:
@@ -68,6 +68,7 @@ def test_tiny_fig7_layout_csv_and_cache_hits(tmp_path, monkeypatch):
         tables.append(table)
     assert rows[0]["se_source"] == "exact" and all(float(rows[0][k]) == 0 for k in ("L_se", "a_se", "b_se"))
     assert rows[1]["se_source"] == "realizations" and float(rows[1]["L_se"]) > 0
+    assert rows[2]["particles"] == "sphere:300:rough=0.5" and rows[2]["grains"] == "Balls 300 nm rough surface"
     assert rows[1]["tier"] == "full" and "grid=16x16x8" in rows[1]["accuracy"]
 
     # each cell holds the Fig. 6 picture of its table, pixel for pixel
@@ -78,10 +79,14 @@ def test_tiny_fig7_layout_csv_and_cache_hits(tmp_path, monkeypatch):
             np.testing.assert_array_equal(image[y0:y1, x0:x1], picture)
 
     # every mark outside the cells is a label inside its box, and every label left a mark
-    labels = grid_labels(layout, ["Y7.5% + B7.5%"], ["infinitesimal particles", "Balls 300 nm"], ["", "normal"],
+    groups = ["infinitesimal particles", "Balls 300 nm", "Balls 300 nm"]
+    labels = grid_labels(layout, ["Y7.5% + B7.5%"], groups, ["", "normal", "rough surface"],
                          TITLES["fig7"], grid_caption(rows[0]["accuracy"]))
+    (rx0, ry0, rx1, ry1), = header_rules(layout, groups)           # one group spans two columns
+    assert rx0 > layout.cell_box(0, 1)[0] and rx1 < layout.cell_box(0, 2)[2]
+    assert np.all(image[ry0:ry1, rx0:rx1] == RULE_GREY)
     ink = np.any(image < 200, axis=2)
-    for i, j in ((0, 0), (0, 1)):
+    for i, j in ((0, 0), (0, 1), (0, 2)):
         x0, y0, x1, y1 = layout.cell_box(i, j)
         ink[y0:y1, x0:x1] = False
     inside = np.zeros_like(ink)
@@ -103,7 +108,7 @@ def test_tiny_fig7_layout_csv_and_cache_hits(tmp_path, monkeypatch):
         monkeypatch.setattr(module, name, boom)
     again = run_fig7(tmp_path, "g.png")
     rows2 = read_rows(again.with_suffix(".csv"))
-    assert [r["computed"] for r in rows2] == ["no", "no"] and all(r["status"] == "ok" for r in rows2)
+    assert [r["computed"] for r in rows2] == ["no"] * 3 and all(r["status"] == "ok" for r in rows2)
     assert [r["cache_key"] for r in rows2] == [r["cache_key"] for r in rows]
     np.testing.assert_array_equal(read_png(again), image)
 
@@ -119,13 +124,14 @@ def test_failing_cell_is_crossed_out_not_dropped(tmp_path, monkeypatch, capsys):
     monkeypatch.setattr(cells_mod, "get_or_build", flaky)
     out = run_fig7(tmp_path)
     rows = read_rows(out.with_suffix(".csv"))
-    assert [r["status"] for r in rows] == ["ok", "failed"]
+    assert [r["status"] for r in rows] == ["ok", "failed", "failed"]
     assert rows[1]["reason"] == "RuntimeError: solver diverged at λ = 450 nm"
     assert rows[1]["L"] == "" and rows[1]["cache_key"]          # the request's key, for a rerun
-    layout = layout_of(1, 2)
-    x0, y0, x1, y1 = layout.cell_box(0, 1)
-    np.testing.assert_array_equal(read_png(out)[y0:y1, x0:x1], crossed_out(y1 - y0, x1 - x0))
-    assert "1 failed" in capsys.readouterr().out
+    layout = layout_of(1, 3)
+    for j in (1, 2):
+        x0, y0, x1, y1 = layout.cell_box(0, j)
+        np.testing.assert_array_equal(read_png(out)[y0:y1, x0:x1], crossed_out(y1 - y0, x1 - x0))
+    assert "2 failed" in capsys.readouterr().out
 
 
 def test_across_cylinders_use_the_smallest_reaching_tilt(tmp_path, monkeypatch):

@@ -19,6 +19,7 @@ from ..figures.fig6 import figure6, plot_figure6  # noqa: F401  (figure6: the pi
 from ..table import read_table
 from ..table.evaluate import column_at, directional_albedo
 
+
 def _column_at_deg(table, name: str, degrees: float) -> np.ndarray:
     return column_at(table, name, np.radians(degrees))
 

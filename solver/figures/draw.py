@@ -14,13 +14,19 @@ DPI = 100
 MAX_FONT_PX, MIN_FONT_PX = 14.0, 6.0
 
 
-def compose(layout: GridLayout, pictures: dict) -> np.ndarray:
-    """The grid's pixels: white, with each cell's (strip, square) pair or crossed-out image.
+RULE_GREY = 150
+
+
+def compose(layout: GridLayout, pictures: dict, rules=()) -> np.ndarray:
+    """The grid's pixels: white, with each cell's (strip, square) pair or crossed-out image,
+    and grey rules (boxes) under the group headers.
 
     pictures[(i, j)] is (strip, square) arrays of the layout's sizes, or one array of the whole
     cell's size (a failed cell)."""
     width, height = layout.size
     canvas = np.full((height, width, 3), 255, dtype=np.uint8)
+    for x0, y0, x1, y1 in rules:
+        canvas[y0:y1, x0:x1] = RULE_GREY
     for (i, j), picture in pictures.items():
         if isinstance(picture, tuple):
             for image, (x0, y0, x1, y1) in zip(picture, (layout.strip_box(i, j), layout.square_box(i, j))):

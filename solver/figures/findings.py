@@ -16,7 +16,6 @@ so cells shared by both sides of a check are handled exactly.  Verdicts:
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable
 
 import numpy as np
 

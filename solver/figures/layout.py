@@ -139,3 +139,14 @@ def grid_labels(layout: GridLayout, rows: list[str], groups: list[str], subs: li
         labels += [Label(text, layout.columns_box(j, 1, sub=True), "center") for j, text in enumerate(subs) if text]
     labels.append(Label(caption, layout.caption_box(), "center"))
     return labels
+
+
+def header_rules(layout: GridLayout, groups: list[str]) -> list[Box]:
+    """Thin rules at the foot of each group header that spans several columns (as in the
+    paper's table), inside the header's box."""
+    rules = []
+    for _, first, count in column_groups(groups):
+        if count > 1:
+            x0, _, x1, y1 = layout.columns_box(first, count, sub=False)
+            rules.append((x0 + 6, y1 - 4, x1 - 6, y1 - 3))
+    return rules

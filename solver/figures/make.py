@@ -16,7 +16,7 @@ from .cell_colour import PAPER_ALBEDO, node_errors
 from .cells import CellResult, FigureSettings, build_cells, estimates, plan_cells
 from .draw import Curve, Panel, compose, draw_grid, draw_spectra
 from .fig6 import crossed_out, figure6
-from .layout import CellGeometry, GridLayout, grid_labels
+from .layout import CellGeometry, GridLayout, grid_labels, header_rules
 from .paper_grid import TITLES
 from .records import CellRecord, record_of, write_csv
 
@@ -57,7 +57,7 @@ def draw_grid_figure(figure: str, rows, columns, results: list[CellResult], accu
                          else crossed_out(g.square, g.width))
     labels = grid_labels(layout, [r.label for r in rows], [c.group for c in columns], [c.sub for c in columns],
                          TITLES.get(figure, figure), grid_caption(accuracy))
-    draw_grid(compose(layout, pictures), labels, path)
+    draw_grid(compose(layout, pictures, header_rules(layout, [c.group for c in columns])), labels, path)
     return layout
 
 

@@ -1,0 +1,106 @@
+"""The figures' costs and the honesty of their standard errors.
+
+    python -m benchmarks.bench_figures            # ~2–4 min on 2 cores
+
+1. plan: cells and estimated build time of Fig. 7, 8 and 9 at each accuracy preset (the table
+   preflight's model; with 2 workers and 16), nothing built;
+2. standard error: one small particle cell built with K seeds; the spread of its CIELAB across
+   seeds against the propagated standard error of one table (independent, per-column
+   correlated, and the larger — what the CSV reports);
+3. drawing: composing and writing a full 21 × 17 Fig. 7 (molecular tables in every cell, so
+   only drawing is timed), and the colour + SE of one cell.
+"""
+
+from __future__ import annotations
+
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+from solver.figures.cell_colour import cell_colour, lab_jacobian, node_errors, propagate_se
+from solver.figures.cells import CellResult, FigureSettings, build_cells, plan_cells
+from solver.figures.estimate import estimate_seconds
+from solver.figures.make import draw_grid_figure, duration
+from solver.figures.paper_grid import FIG7_COLUMNS, FIG7_ROWS, FIGURES, Column
+from solver.table.builder import BuildOptions, build_table
+from solver.table.cache import TableCache
+from solver.table.request import ACCURACY, table_request
+
+OUT = Path("out/bench")
+SE_CELL = ("Y7.5+B7.5", "sphere:300")
+SE_SETTINGS = dict(wavelengths_nm=(420.0, 480.0, 540.0, 600.0, 660.0), sigma_rad=tuple(np.radians([0, 40, 90])),
+                   grid=(24, 24, 12), realizations=3, azimuths=1, tier="full")
+SE_SEEDS = 8
+
+
+def plan_costs() -> None:
+    print("1. estimated build time of every cell (table preflight model; nothing built)")
+    print(f"   {'figure':6s} {'cells':>5s}  " + "  ".join(f"{a + ' (2 / 16 workers)':>28s}" for a in ACCURACY))
+    for name, (rows, columns) in FIGURES.items():
+        line = f"   {name:6s} {len(rows) * len(columns):5d}  "
+        for accuracy in ACCURACY:
+            settings = FigureSettings(accuracy)
+            requests = [settings.request(r.ink, c.particles) for r in rows for c in columns]
+            t2, t16 = (sum(estimate_seconds(q, w) for q in requests) for w in (2, 16))
+            line += f"{duration(t2) + ' / ' + duration(t16):>28s}  "
+        print(line)
+
+
+def se_check(cache: TableCache) -> None:
+    ink, particles = SE_CELL
+    print(f"\n2. standard error of the colour: {ink} {particles}, {SE_SETTINGS['realizations']} realizations, "
+          f"grid {SE_SETTINGS['grid']}, {len(SE_SETTINGS['wavelengths_nm'])} λ, {SE_SEEDS} seeds")
+    labs, se = [], {m: [] for m in ("independent", "correlated", "larger")}
+    t0 = time.perf_counter()
+    for seed in range(1, SE_SEEDS + 1):
+        table = build_table(table_request(ink, particles, seed=seed, **SE_SETTINGS),
+                            BuildOptions(progress=False, cache=cache))
+        labs.append(cell_colour(table).lab)
+        errors, _ = node_errors(table)
+        jac = lab_jacobian(table)
+        for mode in se:
+            se[mode].append(propagate_se(jac, errors, mode))
+    spread = np.std(labs, axis=0, ddof=1)
+    print(f"   built in {time.perf_counter() - t0:.0f} s; spread across seeds has ±{100 / np.sqrt(2 * (SE_SEEDS - 1)):.0f} % "
+          "sampling error")
+    print(f"   {'':28s} {'L*':>7s} {'a*':>7s} {'b*':>7s}")
+    print(f"   {'observed spread (seeds)':28s} " + " ".join(f"{v:7.3f}" for v in spread))
+    for mode, values in se.items():
+        mean = np.mean(values, axis=0)
+        label = f"propagated SE, {mode}" + (" (CSV)" if mode == "larger" else "")
+        print(f"   {label:28s} " + " ".join(f"{v:7.3f}" for v in mean) + "   ratio to observed "
+              + " ".join(f"{r:4.2f}" for r in mean / spread))
+
+
+def drawing(cache: TableCache) -> None:
+    print("\n3. drawing a full Fig. 7 (21 × 17; molecular tables in every cell, so only drawing is timed)")
+    opts = BuildOptions(progress=False, cache=cache, workers=1)
+    rows, columns = FIG7_ROWS, tuple(Column("molecular", c.group, c.sub) for c in FIG7_COLUMNS)
+    plans = plan_cells(rows, columns[:1], FigureSettings("default"))
+    tables = {p.row.spec: r.table for p, r in zip(plans, build_cells(plans, opts, [0.0] * len(plans), False))}
+    results = [CellResult(p, tables[p.row.spec]) for p in plan_cells(rows, columns, FigureSettings("default"))]
+    OUT.mkdir(parents=True, exist_ok=True)
+    t0 = time.perf_counter()
+    layout = draw_grid_figure("fig7", rows, FIG7_COLUMNS, results, "default", OUT / "fig7_layout.png")
+    print(f"   {time.perf_counter() - t0:.1f} s, {layout.size[0]} × {layout.size[1]} px: {OUT / 'fig7_layout.png'}")
+    table = build_table(table_request(*SE_CELL, seed=1, **SE_SETTINGS), BuildOptions(progress=False, cache=cache))
+    t0 = time.perf_counter()
+    for _ in range(10):
+        cell_colour(table)
+    print(f"   colour + standard error of one cell ({table.wavelengths.size} λ × {table.sigma.size} σ): "
+          f"{(time.perf_counter() - t0) * 100:.0f} ms")
+
+
+def main(argv=None) -> int:
+    cache = TableCache(Path(tempfile.mkdtemp(prefix="figures_")))
+    plan_costs()
+    se_check(cache)
+    drawing(cache)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
