@@ -1,14 +1,16 @@
 """The figures' costs and the honesty of their standard errors.
 
     python -m benchmarks.bench_figures            # ~2–4 min on 2 cores
+    python -m benchmarks.bench_figures draw       # some sections: plan, se, draw
 
 1. plan: cells and estimated build time of Fig. 7, 8 and 9 at each accuracy preset (the table
    preflight's model; with 2 workers and 16), nothing built;
 2. standard error: one small particle cell built with K seeds; the spread of its CIELAB across
    seeds against the propagated standard error of one table (independent, per-column
    correlated, and the larger — what the CSV reports);
-3. drawing: composing and writing a full 21 × 17 Fig. 7 (molecular tables in every cell, so
-   only drawing is timed), and the colour + SE of one cell.
+3. drawing: one Fig. 6 cell and one colour + SE for a particle and a molecular table on the
+   default grids, and composing and writing a full 21 × 17 Fig. 7 (one table in every cell,
+   so only drawing is timed).
 """
 
 from __future__ import annotations
@@ -23,6 +25,8 @@ import numpy as np
 from solver.figures.cell_colour import cell_colour, lab_jacobian, node_errors, propagate_se
 from solver.figures.cells import CellResult, FigureSettings, build_cells, plan_cells
 from solver.figures.estimate import estimate_seconds
+from solver.figures.fig6 import figure6
+from solver.figures.layout import CellGeometry
 from solver.figures.make import draw_grid_figure, duration
 from solver.figures.paper_grid import FIG7_COLUMNS, FIG7_ROWS, FIGURES, Column
 from solver.table.builder import BuildOptions, build_table
@@ -76,29 +80,37 @@ def se_check(cache: TableCache) -> None:
 
 
 def drawing(cache: TableCache) -> None:
-    print("\n3. drawing a full Fig. 7 (21 × 17; molecular tables in every cell, so only drawing is timed)")
-    opts = BuildOptions(progress=False, cache=cache, workers=1)
-    rows, columns = FIG7_ROWS, tuple(Column("molecular", c.group, c.sub) for c in FIG7_COLUMNS)
-    plans = plan_cells(rows, columns[:1], FigureSettings("default"))
-    tables = {p.row.spec: r.table for p, r in zip(plans, build_cells(plans, opts, [0.0] * len(plans), False))}
-    results = [CellResult(p, tables[p.row.spec]) for p in plan_cells(rows, columns, FigureSettings("default"))]
+    print("\n3. drawing (tables on the default λ, σ, Δφ grids; a 16×16×8 voxel grid keeps the build short)")
+    opts = BuildOptions(progress=False, cache=cache)
+    particle = build_table(table_request(*SE_CELL, grid=(16, 16, 8), realizations=2, azimuths=1, tier="full"), opts)
+    molecular = build_table(table_request(SE_CELL[0]), opts)
+    g = CellGeometry()
+    figure6(molecular, 0.9, size=8, strip=2)              # warm-up: imports, colour tables
+    for name, table in (("particle", particle), ("molecular", molecular)):
+        t0 = time.perf_counter()
+        for _ in range(5):
+            figure6(table, 0.9, size=g.square, strip=g.strip)
+        per_cell = (time.perf_counter() - t0) / 5
+        t0 = time.perf_counter()
+        for _ in range(5):
+            cell_colour(table)
+        print(f"   {name:9s} ({table.wavelengths.size} λ × {table.sigma.size} σ × {table.dphi.size} Δφ): Fig. 6 cell "
+              f"{1000 * per_cell:.0f} ms, colour + SE {1000 * (time.perf_counter() - t0) / 5:.0f} ms")
+    rows, columns = FIG7_ROWS, FIG7_COLUMNS
+    results = [CellResult(p, particle) for p in plan_cells(rows, tuple(
+        Column("molecular", c.group, c.sub) for c in columns), FigureSettings("default"))]
     OUT.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
-    layout = draw_grid_figure("fig7", rows, FIG7_COLUMNS, results, "default", OUT / "fig7_layout.png")
-    print(f"   {time.perf_counter() - t0:.1f} s, {layout.size[0]} × {layout.size[1]} px: {OUT / 'fig7_layout.png'}")
-    table = build_table(table_request(*SE_CELL, seed=1, **SE_SETTINGS), BuildOptions(progress=False, cache=cache))
-    t0 = time.perf_counter()
-    for _ in range(10):
-        cell_colour(table)
-    print(f"   colour + standard error of one cell ({table.wavelengths.size} λ × {table.sigma.size} σ): "
-          f"{(time.perf_counter() - t0) * 100:.0f} ms")
+    layout = draw_grid_figure("fig7", rows, columns, results, "default", OUT / "fig7_layout.png")
+    print(f"   a full Fig. 7 (21 × 17 cells, the particle table in each): {time.perf_counter() - t0:.1f} s, "
+          f"{layout.size[0]} × {layout.size[1]} px: {OUT / 'fig7_layout.png'}")
 
 
 def main(argv=None) -> int:
     cache = TableCache(Path(tempfile.mkdtemp(prefix="figures_")))
-    plan_costs()
-    se_check(cache)
-    drawing(cache)
+    sections = {"plan": plan_costs, "se": lambda: se_check(cache), "draw": lambda: drawing(cache)}
+    for name in (argv or sections):
+        sections[name]()
     return 0
 
 

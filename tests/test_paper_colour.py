@@ -9,13 +9,13 @@ import pytest
 from conftest import diffuse_layer_table
 from solver.figures.cell_colour import (SE_COLUMNS, cell_colour, cell_lab, lab_jacobian, node_errors,
                                         propagate_se, saturation, spectrum_lab)
-from solver.figures.fig6 import crossed_out, figure6, plot_figure6
+from solver.figures.fig6 import azimuth_averaged, crossed_out, figure6, plot_figure6
 from solver.figures.findings import evaluate, report
 from solver.figures.layout import CellGeometry, GridLayout, column_groups
 from solver.figures.paper_grid import FIG7_COLUMNS, FIG7_ROWS, FIG8_ROWS, parse_columns, parse_rows
 from solver.figures.records import CellRecord, read_csv, write_csv
 from solver.inks import parse_ink
-from solver.table.evaluate import directional_albedo
+from solver.table.evaluate import diffuse_brdf, directional_albedo
 from solver.table.thinfilm_tier import build_thinfilm_table
 
 
@@ -71,6 +71,17 @@ def test_colour_and_its_se_by_tier():
     # a doubled error doubles the colour's standard error (linear propagation)
     twice = dataclasses.replace(table, errors={k: 2 * v for k, v in table.errors.items()})
     np.testing.assert_allclose(cell_colour(twice).se, 2 * colour.se, rtol=1e-9)
+
+
+def test_azimuth_average_in_one_evaluation():
+    table = diffuse_layer_table(lossless=False)
+    dphi = np.linspace(0.0, np.pi, 9)
+    light, view = np.radians(np.linspace(0, 60, 7))[None, :], np.radians(np.linspace(0, 60, 5))[:, None]
+    loop = np.mean([diffuse_brdf(table, 0.9, light, view, p) for p in dphi], axis=0)
+    averaged = azimuth_averaged(table, dphi)
+    for p in (0.0, 1.0, np.pi):
+        np.testing.assert_allclose(diffuse_brdf(averaged, 0.9, light, view, p), loop, rtol=1e-12, atol=1e-15)
+    assert np.ptp(loop) > 0 and not np.allclose(diffuse_brdf(table, 0.9, light, view, 0.0), loop)
 
 
 def test_figure6_arrays_and_picture(tmp_path):

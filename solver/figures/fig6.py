@@ -12,10 +12,13 @@ the azimuth difference Δφ (or at one Δφ).
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 from ..colour import reflectance_to_srgb8
 from ..table.evaluate import diffuse_brdf, directional_albedo
+from ..table.interpolation import lerp_weights
 from ..table.schema import InkTable
 
 MAX_ANGLE_DEG = 60.0
@@ -28,6 +31,17 @@ def pixel_angles_rad(size: int) -> np.ndarray:
     return np.radians(np.linspace(0.0, MAX_ANGLE_DEG, size))
 
 
+def azimuth_averaged(table: InkTable, dphi_rad) -> InkTable:
+    """The table with R replaced by its mean over the given Δφ values (as the multilinear
+    interpolant gives them), on a Δφ grid of two equal nodes: evaluating it at any Δφ gives
+    the mean of the original's values at dphi_rad, in one evaluation instead of one per Δφ."""
+    if not table.has_diffuse:
+        return table
+    i, t = lerp_weights(table.dphi, np.asarray(dphi_rad, dtype=float))
+    mean = np.mean(table.R[..., i] * (1 - t) + table.R[..., i + 1] * t, axis=-1)
+    return dataclasses.replace(table, dphi=np.array([0.0, np.pi]), R=np.stack([mean, mean], axis=-1))
+
+
 def figure6(table: InkTable, paper=0.9, size: int = 256, strip: int = 64,
             dphi_deg: float | None = None) -> tuple[np.ndarray, np.ndarray]:
     """The strip (size × strip × 3) and the square (size × size × 3), uint8 sRGB.
@@ -38,10 +52,8 @@ def figure6(table: InkTable, paper=0.9, size: int = 256, strip: int = 64,
     strip_rgb = reflectance_to_srgb8(table.wavelengths, directional_albedo(table, paper, view), axis=0)
     light = view
     if dphi_deg is None:
-        dphi = np.linspace(0.0, np.pi, DPHI_SAMPLES)
-        spec = np.mean([diffuse_brdf(table, paper, light[None, :], view[:, None], p) for p in dphi], axis=0)
-    else:
-        spec = diffuse_brdf(table, paper, light[None, :], view[:, None], np.radians(dphi_deg))
+        table = azimuth_averaged(table, np.linspace(0.0, np.pi, DPHI_SAMPLES))
+    spec = diffuse_brdf(table, paper, light[None, :], view[:, None], np.radians(dphi_deg or 0.0))
     square = reflectance_to_srgb8(table.wavelengths, spec, axis=0)            # [view, light, 3]
     return np.ascontiguousarray(np.broadcast_to(strip_rgb[:, None, :], (size, strip, 3))), square
 
