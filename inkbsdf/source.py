@@ -37,7 +37,7 @@ def _prop(props, name: str):
     """A scene parameter's value, integers checked (Mitsuba gives XML ints as int, floats as float)."""
     value = props.get(name)
     if name in _INTEGER_PARAMS and not (isinstance(value, int) and not isinstance(value, bool)):
-        raise TableError(f"ink BSDF parameter '{name}' must be an integer, got {value!r}")
+        raise TableError(f"ink BSDF: parameter '{name}' must be an integer, got {value!r}")
     return value
 
 
@@ -86,7 +86,7 @@ def build_workers(props) -> int:
     if "workers" in props:
         workers = _prop(props, "workers")
         if workers < 1:
-            raise TableError(f"ink BSDF parameter 'workers' must be ≥ 1, got {workers}")
+            raise TableError(f"ink BSDF: parameter 'workers' must be ≥ 1, got {workers}")
     elif _build_workers is not None:
         workers = _build_workers
     else:
@@ -134,6 +134,8 @@ def load_table(props) -> InkLUT:
 
         try:
             request = table_request(props)
+        except TableError:
+            raise
         except ValueError as exc:       # RequestError, InkSpecError, ParticleSpecError
             raise TableError(f"ink BSDF: {exc}") from None
         cache = TableCache(Path(str(props.get("cache")))) if "cache" in props else TableCache.default()
