@@ -27,6 +27,7 @@ import mitsuba as mi
 from solver.table import TableError
 
 from . import source
+from .errors import InkParameterError
 from .lut import InkLUT
 
 MAX_INKS = 4
@@ -99,19 +100,19 @@ def numbered_inks(props) -> list[int]:
     if not numbers:
         return []
     if any(name in props for name in TABLE_PARAMS + ("coverage",)):
-        raise TableError("ink BSDF: give one ink ('filename' or 'ink', with 'coverage') or several "
+        raise InkParameterError("ink BSDF: give one ink ('filename' or 'ink', with 'coverage') or several "
                          "('filename1'/'ink1', … with 'coverage1', …), not both forms")
     found = sorted(numbers)
     if found != list(range(1, len(found) + 1)) or len(found) > MAX_INKS:
-        raise TableError(f"ink BSDF: inks must be numbered 1 to k ≤ {MAX_INKS} without gaps "
+        raise InkParameterError(f"ink BSDF: inks must be numbered 1 to k ≤ {MAX_INKS} without gaps "
                          f"('filename1'/'ink1', …); found {', '.join(map(str, found))}")
     for n in found:
         if f"filename{n}" in props and f"ink{n}" in props:
-            raise TableError(f"ink BSDF: ink {n}: give either 'filename{n}' or 'ink{n}', not both")
+            raise InkParameterError(f"ink BSDF: ink {n}: give either 'filename{n}' or 'ink{n}', not both")
     for key in props.keys():
         m = _NUMBERED.match(key)
         if m and m.group(1) == "coverage" and int(m.group(2)) not in numbers:
-            raise TableError(f"ink BSDF: '{key}' names no ink (inks given: {', '.join(map(str, found))})")
+            raise InkParameterError(f"ink BSDF: '{key}' names no ink (inks given: {', '.join(map(str, found))})")
     return found
 
 
@@ -155,8 +156,9 @@ def load_inks(props) -> tuple[InkSource, ...]:
         own, origin = _ink_properties(props, n)
         try:
             lut = source.load_table(own)
-        except TableError as exc:
-            raise TableError(f"ink {n}: {exc}") from None
+        except ValueError as exc:                  # TableError, CacheError, a request's error
+            message = f"ink BSDF, ink {n}: {re.sub(r'^(ink BSDF:? )+', '', str(exc))}"
+            raise (TableError if isinstance(exc, TableError) else InkParameterError)(message) from None
         used = {}
         for name, key in origin.items():
             if own.was_queried(name):

@@ -19,9 +19,8 @@ import drjit as dr
 import mitsuba as mi
 
 from solver.printing import DEFAULT_COVERAGE_MODEL, check_coverage_model, possible_primaries, stack_order
-from solver.table import TableError
-
 from .coverage import coverage_support
+from .errors import InkParameterError, plugin_factory
 from .inks import load_inks, numbered_inks, stack_lut
 from .mixing import PrintModel
 from .model import InkModel
@@ -73,7 +72,7 @@ def _define_class():
                 self.coverage_model = check_coverage_model(
                     str(props.get("coverage_model", DEFAULT_COVERAGE_MODEL)))
             except ValueError as exc:
-                raise TableError(f"ink BSDF: {exc}") from None
+                raise InkParameterError(f"ink BSDF: {exc}") from None
             self.coverage_names = coverage_names(props)
             self.inks = load_inks(props)
             self.lut = self.inks[0].lut
@@ -209,5 +208,5 @@ def register() -> str:
     Call again after `mitsuba.set_variant`: Mitsuba's plugin registry is per variant.
     """
     cls = bsdf_class()
-    mi.register_bsdf(PLUGIN_NAME, lambda props: cls(props))
+    mi.register_bsdf(PLUGIN_NAME, plugin_factory(cls))    # bad input: a short error (inkbsdf/errors.py)
     return mi.variant()

@@ -246,7 +246,7 @@ def test_numbered_parameters(use_variant, tables):
     ({"filename1": "R30", "coverage_model": "yule"}, "coverage_model must be one of clapper-yule, murray-davies"),
     ({"filename1": "R30", "bogus2": 1.0}, "unreferenced property"),
     ({"filename1": "R30", "particles": "molecular"}, "unreferenced property"),
-    ({"filename1": "nowhere.npz"}, "ink 1: .*not found"),
+    ({"filename1": "nowhere.npz"}, "ink BSDF, ink 1: .*not found"),
 ])
 def test_parameter_errors(use_variant, tables, params, message):
     mi = use_variant("llvm_ad_spectral")

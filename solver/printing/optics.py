@@ -46,8 +46,9 @@ def resample_wavelengths(table: InkTable, wavelengths_nm) -> InkTable:
         tt = t.reshape((-1,) + (1,) * (a.ndim - 1))
         return a[i] * (1.0 - tt) + a[i + 1] * tt
 
+    names = _LAMBDA_COLUMNS + tuple(table.sp_arrays)        # s/p split of unpolarised tables
     return dataclasses.replace(table, wavelengths=wl, errors={},
-                               **{name: lerp(getattr(table, name)) for name in _LAMBDA_COLUMNS})
+                               **{name: lerp(getattr(table, name)) for name in names})
 
 
 @dataclass(frozen=True)
