@@ -6,9 +6,8 @@ Scenes (the demo page, `scenes/printed_page.xml`, tables built into a temp folde
   1ink-cy   the demo as it is: one ink per BSDF, Clapper–Yule (the default)
   1ink-md   the same with coverage_model = murray-davies (the former formula)
   3ink-cy   the page printed with R30, Y30 (two crossing coverage ramps) and B30 (the text):
-            all eight printed primaries are evaluated on the page; overprint tables are thin
-            films of the members' mixed pigments and summed thickness (a stand-in: the cost of a
-            lookup does not depend on the numbers)
+            all eight printed primaries are evaluated on the page; overprint tables are the
+            exact multilayer films (solver.table.thinfilm_tier.build_stack_table)
   1ink-base the demo with the code of `--baseline` (the BSDF before coverage models)
 
 Each scene (and each BSDF-alone timing: eval + sample on `--lanes` random lanes) runs in a
@@ -46,27 +45,23 @@ scene_path = Path(cfg["scene"])
 params = {"tables": cfg["tables"], "width": str(cfg["width"]), "height": str(cfg["height"]),
           "spp": str(cfg["spp"])}
 
-def stand_in_stack(members):
-    """Thin film of the members' pigments mixed, thickness summed (timing stand-in)."""
+def exact_stack(members):
+    """The exact multilayer film of the members (molecular demo inks), top first."""
     from solver.inks import parse_ink
     from solver.table import read_table
-    from solver.table.thinfilm_tier import build_thinfilm_table
+    from solver.table.thinfilm_tier import build_stack_table
     from inkbsdf.lut import lut_from_table
-    total, thick = {}, 0.0
+    layers = []
     for m in members:
         meta = read_table(m.lut.source).meta
-        h = float(meta["thickness_nm"])
-        thick += h
-        for code, f in parse_ink(meta["ink"]).components:
-            total[code] = total.get(code, 0.0) + f * h
-    spec = "+".join(f"{c}{100 * f / thick:.6g}" for c, f in total.items()) or "clear"
+        layers.append((parse_ink(meta["ink"]), float(meta["thickness_nm"])))
     lut0 = members[0].lut
-    return lut_from_table(build_thinfilm_table(parse_ink(spec), thick, lut0.wavelengths_nm, lut0.sigma_rad),
+    return lut_from_table(build_stack_table(layers, lut0.wavelengths_nm, lut0.sigma_rad),
                           source="stack:" + "/".join(m.label for m in members))
 
 if any("3ink" in n for n in list(cfg["scenes"]) + list(cfg["bsdfs"])):
     from inkbsdf.inks import set_stack_provider
-    set_stack_provider(stand_in_stack)
+    set_stack_provider(exact_stack)
 scenes = {}
 for name, xml in cfg["scenes"].items():
     resolver = mi.file_resolver()
@@ -154,21 +149,19 @@ def three_ink_scene(xml: str, folder: Path) -> str:
 
 def dot_gain_table() -> None:
     """CIELAB (D65) of one ink at 25/50/75 % under diffuse light seen at 8°, paper 0.9: Clapper–Yule
-    against Murray–Davies (solver.printing; exact thin-film tables of the demo inks)."""
+    against Murray–Davies (solver.printing; the demo inks' default tables: exact thin films)."""
     import numpy as np
 
-    from inkbsdf.demo_tables import THICKNESS_NM
     from solver.colour import lab_hue_chroma, reflectance_to_xyz, xyz_to_lab
-    from solver.inks import parse_ink
     from solver.printing import PrintedInks, ReflectancePredictor
-    from solver.table.request import DEFAULT_FILM_SIGMA_COUNT
-    from solver.table.thinfilm_tier import build_thinfilm_table
+    from solver.table.builder import build_table
+    from solver.table.request import table_request
 
-    wl = np.arange(380.0, 781.0, 10.0)
-    sigma = np.linspace(0.0, np.pi / 2, DEFAULT_FILM_SIGMA_COUNT)
     print("dot gain: L*, C* at coverage c (paper 0.9, diffuse light, view 8°), Clapper–Yule | Murray–Davies")
     for ink in ("R30", "Y30", "B30"):
-        printed = PrintedInks((build_thinfilm_table(parse_ink(ink), THICKNESS_NM, wl, sigma),))
+        table = build_table(table_request(ink))
+        wl = table.wavelengths
+        printed = PrintedInks((table,))
         cells = []
         for c in (0.25, 0.5, 0.75):
             lab = [xyz_to_lab(reflectance_to_xyz(wl, ReflectancePredictor.build(
