@@ -20,6 +20,7 @@ import numpy as np
 
 from ..table.evaluate import brdf_R_at, column_at
 from ..table.integrals import diffuse_albedo, hemispherical_mean
+from ..table.interpolation import lerp_weights
 from ..table.schema import InkTable
 from .demichel import Subset
 from .inkset import PrintedInks
@@ -27,19 +28,12 @@ from .inkset import PrintedInks
 _LAMBDA_COLUMNS = ("R", "R_spec", "T_coh", "Rbar", "Tbar", "Rbar_below")
 
 
-def lambda_weights(grid, wavelengths_nm) -> tuple[np.ndarray, np.ndarray]:
-    """(lower node, fraction) of linear interpolation on `grid`, clamped to its ends."""
-    x = np.clip(np.asarray(wavelengths_nm, dtype=np.float64), grid[0], grid[-1])
-    i = np.clip(np.searchsorted(grid, x, side="right") - 1, 0, grid.size - 2)
-    return i, (x - grid[i]) / (grid[i + 1] - grid[i])
-
-
 def resample_wavelengths(table: InkTable, wavelengths_nm) -> InkTable:
     """The table at other wavelengths (1-D, nm), linear in λ and clamped, like the BSDF's lanes."""
     wl = np.atleast_1d(np.asarray(wavelengths_nm, dtype=np.float64))
     if wl.ndim != 1:
         raise ValueError("wavelengths_nm must be a 1-D array of wavelengths in nm")
-    i, t = lambda_weights(np.asarray(table.wavelengths, dtype=np.float64), wl)
+    i, t = lerp_weights(table.wavelengths, wl)
 
     def lerp(a):
         a = np.asarray(a, dtype=np.float64)
@@ -93,7 +87,8 @@ class PrimaryOptics:
 
 
 def _column(sigma, values, polar):
-    i, t = lambda_weights(np.asarray(sigma, dtype=np.float64), polar)
+    """A [λ, σ] array interpolated at polar angles (as evaluate.column_at does for columns)."""
+    i, t = lerp_weights(sigma, polar)
     return values[:, i] * (1.0 - t) + values[:, i + 1] * t
 
 
