@@ -171,6 +171,37 @@ def dot_gain_table() -> None:
         print(f"  {ink:4s} " + ";  ".join(cells))
 
 
+def predictor_timing(n_mixes: int = 100_000) -> None:
+    """Time of ReflectancePredictor on random mixes of R30, Y30, B30 with every overprint (exact
+    stacks from the table requests "B30/Y30", …), Clapper–Yule, view 8°."""
+    import time
+
+    import numpy as np
+
+    from solver.printing import PrintedInks, ReflectancePredictor, stack_order
+    from solver.table.builder import build_table
+    from solver.table.request import LAYER_SEPARATOR, table_request
+
+    inks = ("R30", "Y30", "B30")
+    printed = PrintedInks.from_provider(
+        [build_table(table_request(ink)) for ink in inks],
+        lambda s: build_table(table_request(LAYER_SEPARATOR.join(inks[i] for i in stack_order(s)))))
+    t0 = time.perf_counter()
+    predict = ReflectancePredictor.build(printed, 0.9, np.radians(8.0))
+    t1 = time.perf_counter()
+    cov = np.random.default_rng(0).random((n_mixes, len(inks)))
+    spectra = predict(cov)                                   # warm-up (BLAS threads start)
+    runs = []
+    for _ in range(5):
+        t2 = time.perf_counter()
+        predict(cov)
+        runs.append(time.perf_counter() - t2)
+    best, med = min(runs), sorted(runs)[len(runs) // 2]
+    print(f"ReflectancePredictor, 3 inks + 4 overprints, {spectra.shape[-1]} λ: build {1e3 * (t1 - t0):.1f} ms; "
+          f"{n_mixes} mixes: median {1e3 * med:.0f} ms ({1e9 * med / n_mixes:.0f} ns per mix), "
+          f"best {1e3 * best:.0f} ms")
+
+
 def run_process(root: Path, cfg: dict) -> dict:
     env = dict(os.environ, PYTHONPATH=str(root))
     out = subprocess.run([sys.executable, "-c", WORKER, json.dumps(cfg)], env=env, cwd=str(root),
@@ -189,9 +220,11 @@ def main(argv=None) -> int:
     p.add_argument("--repeats", type=int, default=4, help="timed renders per scene and process")
     p.add_argument("--rounds", type=int, default=2, help="alternations of the code versions' processes")
     p.add_argument("--lanes", type=int, default=1 << 20, help="lanes of the BSDF-only timing (eval + sample)")
-    p.add_argument("--colour-only", action="store_true", help="only the dot-gain table (no renders)")
+    p.add_argument("--colour-only", action="store_true",
+                   help="only the dot-gain table and the predictor timing (no renders)")
     args = p.parse_args(argv if argv is not None else [])
     dot_gain_table()
+    predictor_timing()
     if args.colour_only:
         return 0
     from inkbsdf.demo_tables import build_tables

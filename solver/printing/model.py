@@ -39,9 +39,19 @@ def check_coverage_model(name: str) -> str:
     return name
 
 
-def mix(weights, values) -> np.ndarray:
-    """Σ_S a_S·x_S: weights [..., nP] against values [nP, ...] → [..., *values.shape[1:]]."""
-    return np.tensordot(weights, values, axes=([-1], [0]))
+def mix(weights, *values):
+    """Σ_S a_S·x_S of each x: weights [..., nP] against values [nP, ...] → [..., *x.shape[1:]];
+    one matrix product for all of them (one array in, one out; several in, a tuple out)."""
+    w = np.asarray(weights, dtype=np.float64)
+    arrays = [np.asarray(v, dtype=np.float64) for v in values]
+    flat = np.concatenate([a.reshape(a.shape[0], -1) for a in arrays], axis=1)
+    out = w @ flat
+    parts, start = [], 0
+    for a in arrays:
+        size = int(np.prod(a.shape[1:], dtype=np.int64))
+        parts.append(out[..., start:start + size].reshape(w.shape[:-1] + a.shape[1:]))
+        start += size
+    return parts[0] if len(parts) == 1 else tuple(parts)
 
 
 def paper_albedo(paper, wavelengths_nm) -> np.ndarray:
@@ -60,12 +70,12 @@ def paper_albedo(paper, wavelengths_nm) -> np.ndarray:
 def smooth_mix(model: str, weights, r, layer, t_in, t_out, rho) -> np.ndarray:
     """The smooth part of a coverage model from per-primary terms (primary axis first):
 
-    `layer` = R/π (BRDF) or R_diff (albedo); `t_in` = T̄(σ); `t_out` = T̄(θ) (BRDF) or τ̄
-    (albedo); `rho` = ρ̄; `r` broadcasts against one primary's term.
+    `layer` = R/π (BRDF) or R_diff (+ R_spec) (albedo); `t_in` = T̄(σ); `t_out` = T̄(θ) (BRDF)
+    or τ̄ (albedo); `rho` = ρ̄; `r` broadcasts against one primary's term.
     """
     if check_coverage_model(model) == "clapper-yule":
-        return (mix(weights, layer)
-                + r * mix(weights, t_in) * mix(weights, t_out) / (1.0 - r * mix(weights, rho)))
+        layer, t_in, t_out, rho = mix(weights, layer, t_in, t_out, rho)
+        return layer + r * t_in * t_out / (1.0 - r * rho)
     return mix(weights, layer + r * t_in * t_out / (1.0 - r * rho))
 
 
@@ -129,9 +139,8 @@ def albedo_terms(optics: PrimaryOptics, model: str, weights, r, polar_rad, specu
     give [..., nλ]; weights [nP] with angles of any shape give [nλ, *shape]."""
     spec, rdiff, tbar = optics.at_polar(polar_rad)
     nd = np.ndim(polar_rad)
-    smooth = smooth_mix(model, weights, _expand(r, nd), rdiff, tbar,
-                        _expand(optics.tau, nd), _expand(optics.rho, nd))
-    return smooth + mix(weights, spec) if specular else smooth
+    return smooth_mix(model, weights, _expand(r, nd), rdiff + spec if specular else rdiff, tbar,
+                      _expand(optics.tau, nd), _expand(optics.rho, nd))
 
 
 def directional_albedo(printed: PrintedInks, coverages, paper, polar_rad,

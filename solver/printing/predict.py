@@ -5,7 +5,8 @@
 
 Everything that does not depend on the coverages (each primary's R_spec, R_diff, T̄ at the view
 angle, ρ̄, τ̄) is computed once in `build`; a call is then a few matrix products over the
-primaries' Demichel weights (`model.albedo_terms`): about a microsecond per mix for 3 inks.
+primaries' Demichel weights (`model.albedo_terms`; `python -m benchmarks.bench_printing
+--colour-only` prints the time per mix).
 """
 
 from __future__ import annotations
