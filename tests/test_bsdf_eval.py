@@ -36,7 +36,7 @@ def ink_bsdf(mi, path, paper, coverage, model):
                          "coverage_model": model})
 
 
-def reference_eval(table, wi, wo, lam, coverage, paper, model):
+def reference_eval(table, wi, wo, lam, coverage, paper, model="clapper-yule"):
     """f(ωi, ωo)·cos θo of the smooth lobes, [4, N], written from DESIGN.md §1 with SciPy.
 
     Murray–Davies: c·f_ink + (1 − c)·r/π. Clapper–Yule: light enters through ink (c, ×T̄(σ)) or
