@@ -37,7 +37,7 @@ def _prop(props, name: str):
     """A scene parameter's value, integers checked (Mitsuba gives XML ints as int, floats as float)."""
     value = props.get(name)
     if name in _INTEGER_PARAMS and not (isinstance(value, int) and not isinstance(value, bool)):
-        raise TableError(f"ink BSDF parameter '{name}' must be an integer, got {value!r}")
+        raise TableError(f"ink BSDF: parameter '{name}' must be an integer, got {value!r}")
     return value
 
 
@@ -86,7 +86,7 @@ def build_workers(props) -> int:
     if "workers" in props:
         workers = _prop(props, "workers")
         if workers < 1:
-            raise TableError(f"ink BSDF parameter 'workers' must be ≥ 1, got {workers}")
+            raise TableError(f"ink BSDF: parameter 'workers' must be ≥ 1, got {workers}")
     elif _build_workers is not None:
         workers = _build_workers
     else:
@@ -134,6 +134,8 @@ def load_table(props) -> InkLUT:
 
         try:
             request = table_request(props)
+        except TableError:
+            raise
         except ValueError as exc:       # RequestError, InkSpecError, ParticleSpecError
             raise TableError(f"ink BSDF: {exc}") from None
         cache = TableCache(Path(str(props.get("cache")))) if "cache" in props else TableCache.default()
@@ -148,4 +150,50 @@ def load_table(props) -> InkLUT:
     if not path.is_file():
         raise TableError(f"{filename}: table file not found (looked relative to the scene file and "
                          "on Mitsuba's search path; build it with `ink-tables build` or `make tables`)")
+    return load_lut(path)
+
+
+class _Params(dict):
+    """A plain mapping read like mitsuba.Properties (`name in p`, `p.get(name)`)."""
+
+    def get(self, name, default=None):
+        return self[name] if name in self else default
+
+
+def _member_request(member):
+    """The request of one ink of an overprint: from its scene parameters, or from the meta of
+    its table file."""
+    from solver.table import read_table
+    from solver.table.request import table_request as make_request
+
+    params = _Params(member.params)
+    if "ink" in params:
+        return table_request(params)
+    meta = read_table(params["filename"]).meta
+    return make_request(meta["ink"], meta.get("particles", "molecular"), thickness_nm=meta.get("thickness_nm"),
+                        polarisation=meta.get("polarisation", "te"))
+
+
+def stack_lut(members) -> InkLUT:
+    """The table of an overprint (members top first) through the cache: an exact multilayer
+    film of the members' layers (inkbsdf.inks calls this for every overprint a scene can show)."""
+    from solver.table.builder import BuildOptions, get_or_build
+    from solver.table.cache import TableCache
+    from solver.table.request import table_request as make_request
+
+    try:
+        requests = [_member_request(m) for m in members]
+        layers = tuple(layer for req in requests for layer in req.layers)
+        if any(not layer.molecular for layer in layers):
+            raise TableError(f"ink BSDF: the overprint {'/'.join(m.label for m in members)} has particle "
+                             "layers; overprints are exact multilayer films of molecular inks so far "
+                             "(print particle inks without overlapping coverage)")
+        stack = make_request(layers, polarisation=requests[0].polarisation, materials=requests[0].materials)
+    except TableError:
+        raise
+    except ValueError as exc:
+        raise TableError(f"ink BSDF: overprint {'/'.join(m.label for m in members)}: {exc}") from None
+    cache_dir = next((m.params["cache"] for m in members if "cache" in m.params), None)
+    cache = TableCache(Path(str(cache_dir))) if cache_dir else TableCache.default()
+    _, path, _ = get_or_build(stack, BuildOptions(cache=cache, workers=1, progress=False))
     return load_lut(path)

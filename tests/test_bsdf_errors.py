@@ -137,7 +137,7 @@ def _load_from_depth(mi, spec, depth):
     ({"ink": "R30", "thickness": "thick"}, "InkParameterError: ink BSDF: parameter 'thickness' 'thick' is not "
                                            "a number"),          # said as a scene parameter, not --thickness
     ({"ink": "R30", "accuracy": "best"}, "InkParameterError: ink BSDF: parameter 'accuracy' 'best': choose one of"),
-    ({"ink": "R30", "workers": "two"}, "TableError: ink BSDF parameter 'workers' must be an integer"),
+    ({"ink": "R30", "workers": "two"}, "TableError: ink BSDF: parameter 'workers' must be an integer"),
     ({"filename": "nowhere.npz"}, "TableError: nowhere.npz: table file not found"),
 ])
 def test_library_error_is_short_with_the_cause_and_fix(use_variant, ink_tables, params, needle):
