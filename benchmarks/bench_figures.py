@@ -27,7 +27,7 @@ from solver.figures.cells import CellResult, FigureSettings, build_cells, plan_c
 from solver.figures.estimate import estimate_seconds
 from solver.figures.fig6 import figure6
 from solver.figures.layout import CellGeometry
-from solver.figures.make import draw_grid_figure, duration
+from solver.figures.make import draw_grid_figure, duration, evaluate_cells
 from solver.figures.paper_grid import FIG7_COLUMNS, FIG7_ROWS, FIGURES, Column
 from solver.table.builder import BuildOptions, build_table
 from solver.table.cache import TableCache
@@ -101,8 +101,9 @@ def drawing(cache: TableCache) -> None:
         Column("molecular", c.group, c.sub) for c in columns), FigureSettings("default"))]
     OUT.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
-    layout = draw_grid_figure("fig7", rows, columns, results, "default", OUT / "fig7_layout.png")
-    print(f"   a full Fig. 7 (21 × 17 cells, the particle table in each): {time.perf_counter() - t0:.1f} s, "
+    _, _, pictures = evaluate_cells(results, g)
+    layout = draw_grid_figure("fig7", rows, columns, pictures, "default", OUT / "fig7_layout.png", g)
+    print(f"   a full Fig. 7 (21 × 17 cells, the particle table in each; with each cell's colour + SE): {time.perf_counter() - t0:.1f} s, "
           f"{layout.size[0]} × {layout.size[1]} px: {OUT / 'fig7_layout.png'}")
 
 

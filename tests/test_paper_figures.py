@@ -134,6 +134,28 @@ def test_failing_cell_is_crossed_out_not_dropped(tmp_path, monkeypatch, capsys):
     assert "2 failed" in capsys.readouterr().out
 
 
+def test_a_table_that_cannot_be_drawn_fails_its_cell_only(tmp_path, monkeypatch):
+    import solver.figures.make as make
+
+    real = make.figure6
+
+    def picky(table, *a, **k):
+        if table.meta["ink"] == "Y15":
+            raise FloatingPointError("NaN in the square")
+        return real(table, *a, **k)
+
+    monkeypatch.setattr(make, "figure6", picky)
+    out = tmp_path / "m.png"
+    assert main(["paper", "fig8", "--rows", "R15,Y15", "--columns", "molecular", "--no-progress",
+                 "--cache", str(tmp_path / "cache"), "-o", str(out)]) == 0
+    rows = read_rows(out.with_suffix(".csv"))
+    assert [r["status"] for r in rows] == ["ok", "failed"]
+    assert rows[1]["reason"] == "evaluating the table: FloatingPointError: NaN in the square"
+    layout = GridLayout(2, 1, CellGeometry(), has_sub=False)
+    x0, y0, x1, y1 = layout.cell_box(1, 0)
+    np.testing.assert_array_equal(read_png(out)[y0:y1, x0:x1], crossed_out(y1 - y0, x1 - x0))
+
+
 def test_across_cylinders_use_the_smallest_reaching_tilt(tmp_path, monkeypatch):
     import solver.geometry as geometry
 

@@ -91,7 +91,7 @@ class CellResult:
         return self.table is not None
 
 
-def _reason(exc: BaseException) -> str:
+def failure_reason(exc: BaseException) -> str:
     text = " ".join(str(exc).split())
     return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
 
@@ -125,7 +125,7 @@ def plan_cells(rows, columns, settings: FigureSettings) -> list[CellPlan]:
                                    else (column.particles, None))
                 plans.append(CellPlan(row, column, i, j, settings.request(row.ink, particles), tilt))
             except Exception as exc:               # noqa: BLE001 — recorded and drawn, never dropped
-                plans.append(CellPlan(row, column, i, j, None, error=_reason(exc)))
+                plans.append(CellPlan(row, column, i, j, None, error=failure_reason(exc)))
     return plans
 
 
@@ -157,8 +157,8 @@ def build_cells(plans, opts: BuildOptions, seconds: list[float], progress: bool 
                     table, _, built = get_or_build(plan.request, opts)
                     results.append(CellResult(plan, table, built, time.perf_counter() - t0, estimate_s=est))
                 except Exception as exc:           # noqa: BLE001 — a failed cell is drawn crossed out
-                    log.warning("cell %s × %s failed: %s", plan.row.spec, plan.particles, _reason(exc))
-                    results.append(CellResult(plan, None, False, time.perf_counter() - t0, _reason(exc), est))
+                    log.warning("cell %s × %s failed: %s", plan.row.spec, plan.particles, failure_reason(exc))
+                    results.append(CellResult(plan, None, False, time.perf_counter() - t0, failure_reason(exc), est))
             bar.update(est)
         bar.set_postfix_str(f"{len(plans)}/{len(plans)} cells")
     finally:

@@ -6,14 +6,15 @@ CSV and, on request, the findings report.
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 from dataclasses import dataclass
 from pathlib import Path
 
 from ..table.builder import BuildOptions
 from . import findings
-from .cell_colour import PAPER_ALBEDO, node_errors
-from .cells import CellResult, FigureSettings, build_cells, estimates, plan_cells
+from .cell_colour import PAPER_ALBEDO, cell_colour, node_errors
+from .cells import CellResult, FigureSettings, build_cells, estimates, plan_cells, failure_reason
 from .draw import Curve, Panel, compose, draw_grid, draw_spectra
 from .fig6 import crossed_out, figure6
 from .layout import CellGeometry, GridLayout, grid_labels, header_rules
@@ -45,16 +46,32 @@ def grid_caption(accuracy: str) -> str:
             "Crossed out: failed (reason in the CSV).")
 
 
-def draw_grid_figure(figure: str, rows, columns, results: list[CellResult], accuracy: str, path,
-                     geometry: CellGeometry | None = None) -> GridLayout:
-    """Fig. 7 / Fig. 8: each cell the Fig. 6 picture of its table, laid out as in the paper."""
-    g = geometry or CellGeometry()
-    layout = GridLayout(len(rows), len(columns), g, has_sub=any(c.sub for c in columns))
-    pictures = {}
+def evaluate_cells(results: list[CellResult], geometry: CellGeometry | None):
+    """Each cell's colour (the CSV) and, for a grid, its Fig. 6 picture; a table that cannot be
+    evaluated makes its cell failed (crossed out, with the reason), never a crash after the builds.
+
+    Returns (results, colours, pictures), keyed by (i, j) where dicts."""
+    out, colours, pictures = [], {}, {}
     for res in results:
         key = (res.plan.i, res.plan.j)
-        pictures[key] = (figure6(res.table, PAPER_ALBEDO, size=g.square, strip=g.strip) if res.ok
-                         else crossed_out(g.square, g.width))
+        if res.ok:
+            try:
+                colours[key] = cell_colour(res.table, PAPER_ALBEDO)
+                if geometry is not None:
+                    pictures[key] = figure6(res.table, PAPER_ALBEDO, size=geometry.square, strip=geometry.strip)
+            except Exception as exc:           # noqa: BLE001 — recorded and drawn, never dropped
+                colours.pop(key, None)
+                res = dataclasses.replace(res, table=None, error=f"evaluating the table: {failure_reason(exc)}")
+        if not res.ok and geometry is not None:
+            pictures[key] = crossed_out(geometry.square, geometry.width)
+        out.append(res)
+    return out, colours, pictures
+
+
+def draw_grid_figure(figure: str, rows, columns, pictures: dict, accuracy: str, path,
+                     geometry: CellGeometry | None = None) -> GridLayout:
+    """Fig. 7 / Fig. 8: each cell the Fig. 6 picture of its table, laid out as in the paper."""
+    layout = GridLayout(len(rows), len(columns), geometry or CellGeometry(), has_sub=any(c.sub for c in columns))
     labels = grid_labels(layout, [r.label for r in rows], [c.group for c in columns], [c.sub for c in columns],
                          TITLES.get(figure, figure), grid_caption(accuracy))
     draw_grid(compose(layout, pictures, header_rules(layout, [c.group for c in columns])), labels, path)
@@ -124,12 +141,13 @@ def make_figure(figure: str, rows, columns, settings: FigureSettings, opts: Buil
     echo(f"{figure}: {len(rows)} × {len(columns)} = {len(plans)} cells, {cached} in the cache, "
          f"{len(plans) - cached - unplanned} to build (estimated {duration(sum(seconds))} {where})"
          + (f", {unplanned} cannot be planned (drawn crossed out)" if unplanned else ""))
-    results = build_cells(plans, opts, seconds, progress=opts.progress)
-    if figure in GRID_FIGURES:
-        draw_grid_figure(figure, rows, columns, results, settings.label, out_png)
+    geometry = CellGeometry() if figure in GRID_FIGURES else None
+    results, colours, pictures = evaluate_cells(build_cells(plans, opts, seconds, progress=opts.progress), geometry)
+    if geometry is not None:
+        draw_grid_figure(figure, rows, columns, pictures, settings.label, out_png, geometry)
     else:
         draw_spectra_figure(rows, columns, results, settings.label, out_png)
-    records = [record_of(figure, r, settings.label, PAPER_ALBEDO) for r in results]
+    records = [record_of(figure, r, settings.label, colours.get((r.plan.i, r.plan.j))) for r in results]
     csv_path = write_csv(records, out_png.with_suffix(".csv"))
     report = None
     if report_path is not None:

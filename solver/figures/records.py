@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .cell_colour import cell_colour
+from .cell_colour import CellColour, cell_colour
 from .cells import CellResult
 
 FIELDS = ("figure", "ink", "column", "grains", "particles", "tilt_deg", "accuracy", "tier", "status",
@@ -46,7 +46,8 @@ class CellRecord:
         return self.status == "ok"
 
 
-def record_of(figure: str, result: CellResult, accuracy: str, paper: float = 0.9) -> CellRecord:
+def record_of(figure: str, result: CellResult, accuracy: str, colour: CellColour | None = None) -> CellRecord:
+    """The CSV record of a cell; `colour` is its cell_colour (computed here when not given)."""
     plan = result.plan
     key = plan.request.key() if plan.request is not None else ""
     common = dict(figure=figure, ink=plan.row.spec, column=plan.column.particles, grains=plan.column.label,
@@ -56,7 +57,7 @@ def record_of(figure: str, result: CellResult, accuracy: str, paper: float = 0.9
         nan = np.full(3, np.nan)
         return CellRecord(**common, tier="", status="failed", lab=nan, se=nan, se_source="", cache_key=key,
                           reason=result.error or "")
-    colour = cell_colour(result.table, paper)
+    colour = colour or cell_colour(result.table)
     return CellRecord(**common, tier=str(result.table.meta.get("tier", "")), status="ok", lab=colour.lab,
                       se=colour.se, se_source=colour.source, cache_key=str(result.table.meta.get("cache_key", key)))
 
