@@ -25,12 +25,13 @@ import numpy as np
 from solver.figures.cell_colour import cell_colour, lab_jacobian, node_errors, propagate_se
 from solver.figures.cells import CellResult, FigureSettings, build_cells, plan_cells
 from solver.figures.estimate import estimate_seconds
-from solver.figures.fig6 import figure6
+from solver.figures.fig6 import DPHI_SAMPLES, azimuth_averaged, figure6, pixel_angles_rad
 from solver.figures.layout import CellGeometry
 from solver.figures.make import draw_grid_figure, duration, evaluate_cells
 from solver.figures.paper_grid import FIG7_COLUMNS, FIG7_ROWS, FIGURES, Column
 from solver.table.builder import BuildOptions, build_table
 from solver.table.cache import TableCache
+from solver.table.evaluate import diffuse_brdf
 from solver.table.request import ACCURACY, table_request
 
 OUT = Path("out/bench")
@@ -96,6 +97,18 @@ def drawing(cache: TableCache) -> None:
             cell_colour(table)
         print(f"   {name:9s} ({table.wavelengths.size} λ × {table.sigma.size} σ × {table.dphi.size} Δφ): Fig. 6 cell "
               f"{1000 * per_cell:.0f} ms, colour + SE {1000 * (time.perf_counter() - t0) / 5:.0f} ms")
+    view, dphi = pixel_angles_rad(g.square), np.linspace(0.0, np.pi, DPHI_SAMPLES)
+    loop = lambda: np.mean([diffuse_brdf(particle, 0.9, view[None, :], view[:, None], p) for p in dphi], axis=0)
+    once = lambda: diffuse_brdf(azimuth_averaged(particle, dphi), 0.9, view[None, :], view[:, None], 0.0)
+    times = {}
+    for name, fn in (("loop", loop), ("once", once)) * 2:          # interleaved, the second pair kept
+        t0 = time.perf_counter()
+        for _ in range(10):
+            fn()
+        times[name] = (time.perf_counter() - t0) / 10
+    print(f"   Fig. 6 square, mean over {DPHI_SAMPLES} Δφ: one evaluation per Δφ {1000 * times['loop']:.0f} ms, "
+          f"one of the Δφ-averaged table {1000 * times['once']:.1f} ms (max difference "
+          f"{np.max(np.abs(loop() - once())):.1e})")
     rows, columns = FIG7_ROWS, FIG7_COLUMNS
     results = [CellResult(p, particle) for p in plan_cells(rows, tuple(
         Column("molecular", c.group, c.sub) for c in columns), FigureSettings("default"))]
