@@ -2,28 +2,14 @@
 from __future__ import annotations
 
 import math
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-from solver.wave import Cell, Incidence, bloch_vector, prepare, solve, solve_prepared
+from solver.wave import Incidence, bloch_vector, prepare, solve, solve_prepared
+from solver.wave.validation import random_layer
 
-sys.path.insert(0, str(Path(__file__).parent))
-from test_wave_oracles import random_spheres, sphere_fractions  # noqa: E402
-
-PERIOD, THICK, LAM = (1000.0, 1000.0), 500.0, 500.0
-E_BINDER = 1.558 ** 2
-
-
-def random_layer(eta_particle, fraction=0.2, diameter=200.0, seed=7, shape=(24, 24, 12),
-                 thickness=THICK):
-    rng = np.random.default_rng(seed)
-    n = int(round(fraction * PERIOD[0] * PERIOD[1] * thickness / (math.pi / 6 * diameter ** 3)))
-    centres = random_spheres(rng, n, PERIOD, (0.0, thickness), diameter / 2)
-    frac = sphere_fractions(centres, diameter / 2, PERIOD, (0.0, thickness), shape, ss=3)
-    return Cell(E_BINDER + (eta_particle ** 2 - E_BINDER) * frac, PERIOD, (0.0, thickness))
+LAM = 500.0
 
 
 @pytest.mark.parametrize("sigma_deg", [0.0, 40.0])

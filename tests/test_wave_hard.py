@@ -3,9 +3,7 @@ absorbing layers, very thin layers, Born divergence, non-convergence, bad input.
 from __future__ import annotations
 
 import math
-import sys
 import warnings
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -13,10 +11,8 @@ from scipy.optimize import brentq
 
 from solver.wave import (BornDivergenceError, Cell, ConvergenceError, ConvergenceWarning,
                          Incidence, solve)
-
-sys.path.insert(0, str(Path(__file__).parent))
-from test_wave_energy import random_layer  # noqa: E402
-from test_wave_oracles import random_spheres, sphere_fractions  # noqa: E402
+from solver.wave.oracles import random_spheres, sphere_fractions
+from solver.wave.validation import random_layer
 
 E_BINDER = 1.558 ** 2
 

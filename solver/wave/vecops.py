@@ -1,0 +1,91 @@
+"""Vector operations of the Krylov solvers on one BLAS thread.
+
+The work is memory bound, so one thread loses little, while OpenBLAS's threads were measured
+up to 1000× slower on a 2-core machine shared with other jobs (thread wake-up under contention:
+a threaded cgemv over 262 144 elements took 8–16 ms instead of 0.5 ms).  `one_blas_thread()`
+sets NumPy's OpenBLAS to one thread for the calling thread only (openblas_set_num_threads_local,
+OpenBLAS ≥ 0.3.27) and restores it; with any other BLAS it changes nothing.  Inner products
+are accumulated in complex128 over chunks of CHUNK elements (single-precision BLAS sums inside
+a chunk).
+"""
+from __future__ import annotations
+
+import contextlib
+import ctypes
+import glob
+import math
+import os
+from typing import Iterator
+
+import numpy as np
+
+#: elements per BLAS call in inner products (partial sums in complex128 across chunks)
+CHUNK = 32768
+
+
+def _openblas_local_setter():
+    """openblas_set_num_threads_local of NumPy's bundled OpenBLAS, or None."""
+    libdir = os.path.join(os.path.dirname(np.__file__), os.pardir, "numpy.libs")
+    for path in sorted(glob.glob(os.path.join(libdir, "*openblas*.so*"))):
+        try:
+            lib = ctypes.CDLL(path)
+            fn = lib.openblas_set_num_threads_local
+        except (OSError, AttributeError):
+            continue
+        fn.restype, fn.argtypes = ctypes.c_int, [ctypes.c_int]
+        return fn
+    return None
+
+
+_SET_LOCAL = _openblas_local_setter()
+
+
+@contextlib.contextmanager
+def one_blas_thread() -> Iterator[None]:
+    """NumPy's OpenBLAS on one thread inside the block, for the calling thread only."""
+    if _SET_LOCAL is None:
+        yield
+        return
+    previous = _SET_LOCAL(1)
+    try:
+        yield
+    finally:
+        _SET_LOCAL(max(int(previous), 1))
+
+
+def dot(a: np.ndarray, b: np.ndarray) -> complex:
+    """⟨a, b⟩ = Σ conj(a)·b of two 1-D arrays."""
+    return sum((complex(np.vdot(a[i:i + CHUNK], b[i:i + CHUNK]))
+                for i in range(0, a.size, CHUNK)), 0j)
+
+
+def norm(v: np.ndarray) -> float:
+    return math.sqrt(max(dot(v, v).real, 0.0))
+
+
+class Basis:
+    """Krylov basis as the rows of one 2-D array (rows allocated lazily by the OS: memory
+    follows the iterations taken)."""
+
+    def __init__(self, rows: int, size: int, dtype: np.dtype):
+        self.v = np.empty((rows, size), dtype=dtype)
+        self.n = 0
+
+    def append(self, w: np.ndarray, scale: float) -> None:
+        np.multiply(w, scale, out=self.v[self.n])
+        self.n += 1
+
+    def row(self, j: int) -> np.ndarray:
+        return self.v[j]
+
+    def project(self, w: np.ndarray, n: int) -> np.ndarray:
+        """Coefficients ⟨v_i, w⟩ for the first n rows (complex128)."""
+        h = np.zeros(n, dtype=complex)
+        wc = np.conj(w)
+        for i in range(0, w.size, CHUNK):
+            h += self.v[:n, i:i + CHUNK] @ wc[i:i + CHUNK]
+        return h.conj()
+
+    def subtract(self, w: np.ndarray, coef: np.ndarray, n: int) -> None:
+        """w −= Σ_i coef_i v_i over the first n rows (in place)."""
+        w -= coef[:n].astype(self.v.dtype) @ self.v[:n]
