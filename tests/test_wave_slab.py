@@ -19,7 +19,7 @@ LAM = 500.0
 
 
 def _check(cell, inc, n_in, eta, n_out, thickness, tol=1e-4, **kw):
-    res = solve(cell, inc, tol=1e-8, **kw)
+    res = solve(cell, inc, tol=1e-8, exact_energy=True, **kw)
     r, t, big_r, big_t = airy_te(n_in, eta, n_out, thickness, inc.wavelength_nm, inc.polar_rad)
     errs = (abs(res.reflected.amp(0, 0) - r), abs(res.transmitted.amp(0, 0) - t),
             abs(res.R - big_r), abs(res.T - big_t))

@@ -34,9 +34,9 @@ from .orders import OrderSet
 from .vecops import dot
 
 #: Gauss–Legendre points per z-cell for ∫|u|²: the intra-cell field is smooth (exponentials
-#: plus a polynomial).  On the reference case at 64×64×32, 3 points agree with 6 to 1e-8
-#: relative; 2 points leave an energy error ~1e-6 on a k = 1.1 slab.
-GAUSS_POINTS = 3
+#: plus a polynomial).  On a k = 1.1 slab at 60°, 32 cells per µm, the identity closes to
+#: 2e-7 (TE) / 1.3e-6 (TM) with 3 points, 2e-10 / 1.4e-9 with 4, 1e-15 with 6.
+GAUSS_POINTS = 4
 
 
 def _tm_factors(op: LayerOperator, from_below: bool) -> tuple[float, complex] | None:

@@ -65,7 +65,7 @@ def grating_errors(eps_strip, a, b, nx, sigma=0.3, azimuth=0.0):
     """(max |Δamplitude| over propagating orders, |ΔR|, result) against RCWA (2·60+1
     harmonics)."""
     res = solve(grating_cell(eps_strip, a, b, nx), Incidence(GRATING_LAM, sigma, azimuth),
-                tol=1e-9)
+                tol=1e-9, exact_energy=True)
     m, r, t, ka, kc = rcwa_te(1.0, 1.0, eps_strip, E_BINDER, a, b, GRATING_PERIOD, GRATING_THICK,
                               GRATING_LAM, sigma, 60, azimuth)
     errs = []
