@@ -262,11 +262,11 @@ def apply_green(op: LayerOperator, f: np.ndarray, ws: Workspace | None = None) -
 def apply_scattering(op: LayerOperator, w: np.ndarray, ws: Workspace | None = None,
                      out: np.ndarray | None = None) -> np.ndarray:
     """G V·w (the Born-series map without the source), into out or a new array."""
-    ws = Workspace(op) if ws is None else ws
-    g = apply_green(op, np.multiply(op.contrast, w, out=ws.f), ws)
     if out is None:
-        return g.copy()
-    np.copyto(out, g)
+        return apply_green(op, np.multiply(op.contrast, w), ws)
+    g = apply_green(op, np.multiply(op.contrast, w, out=out), ws)
+    if g.ctypes.data != out.ctypes.data:          # the FFTs transform in place (fftback)
+        np.copyto(out, g)
     return out
 
 

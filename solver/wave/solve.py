@@ -94,7 +94,7 @@ def _run(op: LayerOperator, b: np.ndarray, method: str, tol: float, maxiter: int
     with one_blas_thread():
         if method == "gmres":
             m = max(1, restart or _gmres_restart(b))
-            return gmres(lambda x, out: apply_system(op, x, ws, out), b, restart=m, **kw)
+            return gmres(lambda x, out: apply_scattering(op, x, ws, out), b, restart=m, **kw)
         if method == "bicgstab":
             return bicgstab(lambda x, out: apply_system(op, x, ws, out), b, **kw)
         return born(lambda x, out: apply_scattering(op, x, ws, out), b, **kw)

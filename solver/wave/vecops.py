@@ -64,28 +64,49 @@ def norm(v: np.ndarray) -> float:
 
 
 class Basis:
-    """Krylov basis as the rows of one 2-D array (rows allocated lazily by the OS: memory
-    follows the iterations taken)."""
+    """Krylov basis as rows of 2-D blocks of BLOCK rows, allocated as the iteration reaches
+    them (memory follows the iterations taken, also as counted by tracemalloc)."""
+
+    BLOCK = 16
 
     def __init__(self, rows: int, size: int, dtype: np.dtype):
-        self.v = np.empty((rows, size), dtype=dtype)
+        self.rows, self.size, self.dtype = rows, size, np.dtype(dtype)
+        self.blocks: list[np.ndarray] = []
         self.n = 0
 
+    def row(self, j: int) -> np.ndarray:
+        """Row j (allocating its block when first reached)."""
+        if j >= self.rows:
+            raise IndexError(f"basis has {self.rows} rows")
+        b, i = divmod(j, self.BLOCK)
+        while len(self.blocks) <= b:
+            self.blocks.append(np.empty((min(self.BLOCK, self.rows - len(self.blocks) * self.BLOCK),
+                                         self.size), dtype=self.dtype))
+        return self.blocks[b][i]
+
     def append(self, w: np.ndarray, scale: float) -> None:
-        np.multiply(w, scale, out=self.v[self.n])
+        np.multiply(w, scale, out=self.row(self.n))
         self.n += 1
 
-    def row(self, j: int) -> np.ndarray:
-        return self.v[j]
+    def _spans(self, n: int):
+        for b, block in enumerate(self.blocks):
+            k = min(n - b * self.BLOCK, block.shape[0])
+            if k <= 0:
+                return
+            yield b * self.BLOCK, block[:k]
 
     def project(self, w: np.ndarray, n: int) -> np.ndarray:
         """Coefficients ⟨v_i, w⟩ for the first n rows (complex128)."""
         h = np.zeros(n, dtype=complex)
         wc = np.conj(w)
-        for i in range(0, w.size, CHUNK):
-            h += self.v[:n, i:i + CHUNK] @ wc[i:i + CHUNK]
+        for start, block in self._spans(n):
+            k = block.shape[0]
+            for i in range(0, w.size, CHUNK):
+                h[start:start + k] += block[:, i:i + CHUNK] @ wc[i:i + CHUNK]
         return h.conj()
 
     def subtract(self, w: np.ndarray, coef: np.ndarray, n: int) -> None:
         """w −= Σ_i coef_i v_i over the first n rows (in place)."""
-        w -= coef[:n].astype(self.v.dtype) @ self.v[:n]
+        c = coef[:n].astype(self.dtype)
+        for start, block in self._spans(n):
+            w -= c[start:start + block.shape[0]] @ block

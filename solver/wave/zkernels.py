@@ -20,7 +20,9 @@ products are circular convolutions with the index-reversed input β̃_j = β_{�
 is computed in the reversed frame (q̌_j = q_{−j}), so all four spectra multiply the same two
 transformed rows [α, β̃]: one forward and one inverse z-FFT of two rows, 4 products, 2 sums.
 The factors I_0 (of α, β) and s_0 (of p, q) are folded into the spectra, so that the inputs are
-α′ = x_0 − ρ x_1, β′ = x_0 + ρ x_1 and y_1 = ρ(p′ − q′) + c_11 x_1 with ρ = I_1/I_0 = s_1/s_0.
+α′ = x_0 − ρ x_1, β′ = x_0 + ρ x_1 with ρ = I_1/I_0 = s_1/s_0; so is the diagonal c_00 (a
+constant c_00/2 added to the spectra of K_A and K̃_B adds c_00·x_0 to y_0 and −ρ² c_00 x_1 to
+y_1), leaving y_0 = p′ + q′ and y_1 = ρ(p′ − q′) + (c_11 + ρ² c_00)·x_1.
 """
 from __future__ import annotations
 
@@ -36,13 +38,14 @@ from .zbasis import diag_galerkin, single_integrals
 class ZKernels:
     """Per-harmonic z-operator data (lateral shape (nx, ny) in FFT order), in dtype.
 
-    spec: (4, nx, ny, 2nz) spectra s_0·I_0·[K_A, C, D̃, K̃_B] (D̃, K̃_B index-reversed), nm;
-    ratio: (nx, ny, 1) ρ = I_1/I_0 (0 when nb = 1); diag: (2, nx, ny, 1) c_00, c_11 (nm).
+    spec: (4, nx, ny, 2nz) spectra s_0·I_0·[K_A, C, D̃, K̃_B] + c_00/2·[1, 0, 0, 1]
+    (D̃, K̃_B index-reversed), nm; ratio: (nx, ny, 1) ρ = I_1/I_0 (0 when nb = 1);
+    diag1: (nx, ny, 1) c_11 + ρ² c_00 (nm).
     """
 
     spec: np.ndarray
     ratio: np.ndarray
-    diag: np.ndarray
+    diag1: np.ndarray
     nz: int
     nb: int
 
@@ -77,14 +80,16 @@ def z_kernels(sg: SlabGreen, dtype: type, fft) -> ZKernels:
     kern[2] = _reverse(kern[2])
     kern[3] = _reverse(kern[3])
     kern *= (ph * integ[0] * integ[0])[..., None]
-    spec = fft(kern).astype(dtype)
-    zero = np.zeros_like(x)
+    spec = fft(kern)
     diag = [ph * (diag_galerkin(p, p, x, np.ones_like(x), tab[..., 1])
                   + rtrb[..., 0] * diag_galerkin(p, p, -x, tab[..., m], tab[..., m - 1]))
-            if p < nb else zero for p in range(2)]
-    ratio = integ[1] / integ[0] if nb > 1 else zero
-    return ZKernels(spec, ratio[..., None].astype(dtype), np.stack(diag)[..., None].astype(dtype),
-                    nz, nb)
+            for p in range(nb)]
+    spec[0] += 0.5 * diag[0][..., None]
+    spec[3] += 0.5 * diag[0][..., None]
+    ratio = integ[1] / integ[0] if nb > 1 else np.zeros_like(x)
+    diag1 = diag[1] + ratio * ratio * diag[0] if nb > 1 else np.zeros_like(x)
+    return ZKernels(spec.astype(dtype), ratio[..., None].astype(dtype),
+                    diag1[..., None].astype(dtype), nz, nb)
 
 
 class ZWork:
@@ -129,13 +134,12 @@ def apply_z(zk: ZKernels, xh: np.ndarray, work: ZWork, fft, ifft) -> np.ndarray:
     p = r[0, ..., :nz]
     v[..., 0] = r[1, ..., 0]                          # q_k = q̌_{−k mod 2nz}
     v[..., 1:] = r[1, ..., :nz:-1]
-    c0, c1 = zk.diag
-    x0 *= c0
-    x0 += p
-    x0 += v
     if zk.nb > 1:
+        xh[1] *= zk.diag1
+        np.add(p, v, out=x0)
         p -= v
         p *= zk.ratio
-        xh[1] *= c1
         xh[1] += p
+    else:
+        np.add(p, v, out=x0)
     return xh
