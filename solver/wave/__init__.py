@@ -15,7 +15,7 @@ from .krylov import (BornDivergenceError, ConvergenceError, ConvergenceWarning,
 from .operator import (DEFAULT_MIN_LOSS, Background, LayerOperator, prepare,
                        prepare_background, with_contrast)
 from .orders import OrderSet
-from .solve import (ENERGY_BOUND, DiffractionResult, EnergyClosureError, EnergyWarning, solve,
+from .solve import (DEFAULT_TOL, ENERGY_BOUND, DiffractionResult, EnergyClosureError, EnergyWarning, solve,
                     solve_prepared)
 from .types import Cell, Incidence, bloch_vector
 
@@ -23,4 +23,4 @@ __all__ = ["Cell", "Incidence", "DiffractionResult", "OrderSet", "LayerOperator"
            "prepare", "prepare_background", "with_contrast", "solve", "solve_prepared",
            "bloch_vector", "BornDivergenceError", "ConvergenceError", "ConvergenceWarning",
            "WaveSolverError", "EnergyWarning", "EnergyClosureError", "DEFAULT_MIN_LOSS",
-           "ENERGY_BOUND"]
+           "ENERGY_BOUND", "DEFAULT_TOL"]
