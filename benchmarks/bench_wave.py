@@ -14,12 +14,14 @@ Reference case (issue "The wave solver"): 2000×2000×1000 nm cell, 30 % of 300-
 2. Tolerance curve (error in R, T, R_spec, T_coh, diffuse orders vs tol 1e-6), warm starts on
    realistic sequences, shared background preparation across realizations, Krylov methods,
    fictitious loss, TM vs TE cost, oracle convergence tables, resolution knob (plot in
-   out/bench/).
+   out/bench/); the "tried and dropped" measurements (benchmarks/wave_tried.py: FFT libraries
+   where installed, batched right-hand sides).
 """
 from __future__ import annotations
 
 import json
 import math
+import os
 import subprocess
 import sys
 import tempfile
@@ -33,7 +35,10 @@ from solver.geometry import LayerSpec, generate, parse_particles, voxelize
 from solver.inks import parse_ink
 from solver.wave import (BornDivergenceError, Cell, ConvergenceWarning, EnergyWarning, Incidence,
                          bloch_vector, prepare, prepare_background, solve_prepared, with_contrast)
+from solver.wave.fftback import fftw_available
 from solver.wave.validation import grating_errors, mie_relative_errors, slab_error
+
+from .wave_tried import batched_rhs, fft_libraries
 
 PERIOD, THICK, DIAM, FILL = (2000.0, 2000.0), 1000.0, 300.0, 0.30
 ETA_PIGMENT, ETA_BINDER = 1.4 + 0.2j, 1.558
@@ -85,11 +90,16 @@ def _extract(rev: str, dest: Path) -> Path | None:
     return dest
 
 
-def _child(tree: Path, eps_path: Path, out: Path, workers: int, repeats: int) -> dict:
-    env = {"PYTHONPATH": str(tree), "PATH": "/usr/bin:/bin"}
+def _child(tree: Path, eps_path: Path, out: Path, workers: int, repeats: int,
+           fft: str | None = None) -> dict:
+    """The harness in a fresh process with `tree` first on the path (then the caller's other
+    PYTHONPATH entries, e.g. where optional packages live)."""
+    extra = [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep)
+             if p and Path(p).resolve() != ROOT]
+    env = {"PYTHONPATH": os.pathsep.join([str(tree)] + extra), "PATH": "/usr/bin:/bin"}
     subprocess.run([sys.executable, str(ROOT / "benchmarks" / "wave_reference.py"),
                     str(eps_path), str(out), "--workers", str(workers), "--repeats",
-                    str(repeats)], check=True, env=env)
+                    str(repeats)] + ([] if fft is None else ["--fft", fft]), check=True, env=env)
     return json.loads(out.read_text())
 
 
@@ -104,24 +114,31 @@ def reference_runs(baseline: str, shapes=((64, 64, 32), (128, 128, 64))) -> list
         for shape in shapes:
             eps_path = tmp / f"eps_{shape[0]}.npy"
             np.save(eps_path, np.asarray(reference_cell(shape).eps))
-            runs = [("new", ROOT, 1), ("new 2 thr", ROOT, 2)]
+            runs = [("new", ROOT, 1, "scipy"), ("new 2 thr", ROOT, 2, "scipy")]
+            if fftw_available():
+                runs.insert(1, ("new", ROOT, 1, "fftw"))
             if old_tree is not None:
-                runs.insert(0, (f"old {baseline}", old_tree, 1))
-            for name, tree, workers in runs:
-                r = _child(tree, eps_path, tmp / "row.json", workers, 3 if shape[0] <= 64 else 2)
-                r.update(code=name, shape="×".join(map(str, shape)), workers=workers,
+                runs.insert(0, (f"old {baseline}", old_tree, 1, None))
+            for name, tree, workers, fft in runs:
+                r = _child(tree, eps_path, tmp / "row.json", workers, 3 if shape[0] <= 64 else 2,
+                           fft)
+                r.update(code=f"{name} {r['fft']}", shape="×".join(map(str, shape)),
+                         workers=workers,
                          ratio=r["solve_cpu"] / r["fft_floor"],
                          ratio_all=(r["solve_cpu"] + r["prepare_cpu"]) / r["fft_floor"])
                 rows.append(r)
     _print_rows(rows, ["shape", "code", "apps", "prepare_cpu", "solve_cpu", "solve_wall",
-                       "fft_floor", "ratio", "ratio_all", "traced_MB", "rss_MB", "energy"])
-    print("ratio = solve / FFT floor; ratio_all = (prepare + solve) / FFT floor; traced_MB: "
-          "tracemalloc peak of one prepare + solve; rss_MB: the process's peak RSS")
+                       "fft_floor", "ratio", "ratio_all", "first_cpu", "traced_MB", "rss_MB",
+                       "energy"])
+    print("ratio = solve / FFT floor; ratio_all = (prepare + solve) / FFT floor (the floor with "
+          "the row's FFT library); first_cpu: the first prepare + solve of the process (FFTW "
+          "plans); traced_MB: tracemalloc peak of one prepare + solve; rss_MB: the process's "
+          "peak RSS")
     print("\nstage profile (CPU s of one profiled prepare + solve, cProfile):")
     stages = list(rows[0]["stages"])
-    print(f"{'':>22} " + " ".join(f"{s[:14]:>14}" for s in stages))
+    print(f"{'':>28} " + " ".join(f"{s[:14]:>14}" for s in stages))
     for r in rows:
-        print(f"{r['shape'] + ' ' + r['code']:>22} "
+        print(f"{r['shape'] + ' ' + r['code']:>28} "
               + " ".join(f"{r['stages'][s]:14.4f}" for s in stages))
     return rows
 
@@ -388,6 +405,9 @@ def main(argv: list[str] | None = None) -> int:
     convergence_tables()
     res_rows, res_rows0 = resolution_knob()
     plot(res_rows, res_rows0, tol_rows)
+    cell = reference_cell((64, 64, 32))
+    fft_libraries(cell, LAM, SIGMA)
+    batched_rhs(cell, LAM, SIGMA)
     return 0
 
 

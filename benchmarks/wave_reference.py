@@ -25,24 +25,43 @@ import numpy as np
 import scipy.fft as sfft
 
 
-def fft_floor(shape: tuple[int, int, int], workers: int, repeats: int = 20) -> float:
-    """CPU seconds of the FFTs of one operator application (best of repeats)."""
+def fft_floor(shape: tuple[int, int, int], workers: int, op=None, repeats: int = 20) -> float:
+    """CPU seconds of the FFTs of one operator application (best of repeats), with the
+    operator's FFT backend where it has one (op.fft), else scipy.fft."""
     nx, ny, nz = shape
-    a = np.zeros((2, nx, ny, nz), np.complex64)
-    b = np.zeros((2, nx, ny, 2 * nz), np.complex64)
+    backend = getattr(op, "fft", None)
+    if backend is None:
+        a = np.zeros((2, nx, ny, nz), np.complex64)
+        b = np.zeros((2, nx, ny, 2 * nz), np.complex64)
+
+        def run():
+            sfft.fft2(a, axes=(1, 2), workers=workers, overwrite_x=True)
+            sfft.fft(b, axis=-1, workers=workers, overwrite_x=True)
+            sfft.ifft(b, axis=-1, workers=workers, overwrite_x=True)
+            sfft.ifft2(a, axes=(1, 2), workers=workers, overwrite_x=True)
+    else:
+        from solver.wave.fftback import aligned_empty
+        a = aligned_empty((2, nx, ny, nz), np.complex64)
+        b = aligned_empty((2, nx, ny, 2 * nz), np.complex64)
+        a[...] = 0
+        b[...] = 0
+
+        def run():
+            backend.lateral(a)
+            backend.z(b)
+            backend.z(b, inverse=True)
+            backend.lateral(a, inverse=True)
+    run()
     best = math.inf
     for _ in range(repeats):
         t = time.process_time()
-        sfft.fft2(a, axes=(1, 2), workers=workers, overwrite_x=True)
-        sfft.fft(b, axis=-1, workers=workers, overwrite_x=True)
-        sfft.ifft(b, axis=-1, workers=workers, overwrite_x=True)
-        sfft.ifft2(a, axes=(1, 2), workers=workers, overwrite_x=True)
+        run()
         best = min(best, time.process_time() - t)
     return best
 
 
 STAGES = (  # (stage, how a profile entry is recognised: (file suffix or "", function name))
-    ("FFT", ("", "c2c")),
+    ("FFT", ("", "c2c"), ("", "pyfftw")),
     ("z-kernel elementwise", ("wave/zkernels.py", "apply_z"), ("wave/operator.py", "convolve_z")),
     ("contrast · w, I − GV", ("wave/operator.py", "apply_system"),
      ("wave/operator.py", "apply_scattering"), ("wave/operator.py", "apply_green")),
@@ -99,6 +118,7 @@ def main() -> None:
     ap.add_argument("--tol", type=float, default=1e-4)
     ap.add_argument("--workers", type=int, default=1)
     ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--fft", default=None, help="FFT backend (solvers that have the option)")
     args = ap.parse_args()
 
     from solver.wave import Cell, Incidence, bloch_vector, prepare, solve_prepared
@@ -106,14 +126,18 @@ def main() -> None:
     cell = Cell(np.load(args.eps), tuple(args.period), tuple(args.z_range))
     kx0, ky0 = bloch_vector(cell, Incidence(args.wavelength, math.radians(args.sigma_deg)))
 
+    extra = {} if args.fft is None else {"fft": args.fft}
+
     def prep():
-        return prepare(cell, args.wavelength, kx0, ky0, workers=args.workers)
+        return prepare(cell, args.wavelength, kx0, ky0, workers=args.workers, **extra)
 
     def once():
         op = prep()
         return solve_prepared(op, tol=args.tol)
 
-    once()                                                   # warm-up (imports, plans)
+    c0 = time.process_time()
+    once()                                                   # warm-up (FFTW plans, caches)
+    first = time.process_time() - c0
     best = {"prepare_cpu": math.inf, "solve_cpu": math.inf, "prepare_wall": math.inf,
             "solve_wall": math.inf}
     for _ in range(args.repeats):
@@ -130,8 +154,10 @@ def main() -> None:
     traced = tracemalloc.get_traced_memory()[1]
     tracemalloc.stop()
     stages = profile_stages(once)
-    floor_app = fft_floor(cell.shape, args.workers)
-    row = dict(best, apps=res.applications, fft_floor_per_app=floor_app,
+    floor_app = fft_floor(cell.shape, args.workers, op)
+    backend = getattr(op, "fft", None)
+    row = dict(best, first_cpu=first, apps=res.applications, fft_floor_per_app=floor_app,
+               fft=getattr(backend, "name", "scipy"),
                fft_floor=floor_app * res.applications, R=res.R, T=res.T,
                R_spec=res.R_spec, T_coh=res.T_coh, A=res.absorbed,
                energy=res.energy_error, residual=res.residual, stages=stages,

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.fft as sfft
 
-from .fftback import default_workers, fft_lateral, fft_z
+from .fftback import DEFAULT_FFT, FFT, aligned_empty, default_workers, get_fft
 from .kernel1d import (SlabGreen, circulant_blocks, face_profiles, slab_green,
                        vertical_wavenumber)
 from .types import Cell
@@ -46,7 +46,8 @@ class Background:
     eps_nominal: ε_b as asked (before min_loss); polarisation 'te' | 'tm'; eps_face: ε_f of the
     TM face conditions (None for TE).  Arrays of shape (nx, ny) are per lateral harmonic in FFT
     order (order indices m, n).  zk: reduced z-kernels; ptop, pbot: moments of the face
-    profiles (kernel1d.face_profiles), (nb, nx, ny, nz) in dtype.
+    profiles (kernel1d.face_profiles), (nb, nx, ny, nz) in dtype; fft: the FFT backend
+    (fftback.py; its normalisation is folded into zk).
     """
 
     shape: tuple[int, int, int]
@@ -71,6 +72,7 @@ class Background:
     pbot: np.ndarray
     dtype: np.dtype
     workers: int
+    fft: FFT
 
     @property
     def k0(self) -> float:
@@ -144,7 +146,7 @@ def prepare_background(shape: tuple[int, int, int], period_nm: tuple[float, floa
                        eps_below: float = 1.0, polarisation: str = "te",
                        eps_face: complex | None = None, min_loss: float = DEFAULT_MIN_LOSS,
                        z_order: int = 1, dtype: type = np.complex64,
-                       workers: int | None = None) -> Background:
+                       workers: int | None = None, fft: str = DEFAULT_FFT) -> Background:
     """The background of a grid `shape` = (nx, ny, nz) over a cell of `period_nm` (Lx, Ly) and
     `thickness_nm`, at `wavelength_nm` and Bloch vector (kx0, ky0) in 1/nm.
 
@@ -154,8 +156,9 @@ def prepare_background(shape: tuple[int, int, int], period_nm: tuple[float, floa
     ε_f = eps_face for the slab, default: eps_background as given, without min_loss).
     z_order: polynomial degree per z-cell (1: O(h⁴) in z where ε is piecewise constant on
     z-cells; 0: cell averages only, O(h²)).  dtype: complex64 (default) or complex128 for the
-    operator arrays and Krylov vectors (kernels are computed in complex128).  workers: scipy.fft
-    threads (default: all cores, at most 8).
+    operator arrays and Krylov vectors (kernels are computed in complex128).  workers: FFT
+    threads (default: all cores, at most 8; one per process is best in a process pool).
+    fft: 'scipy' (default), 'fftw' (pyFFTW, optional) or 'auto' (fftback.py).
     """
     dt = _check_common(wavelength_nm, min_loss, z_order, polarisation, dtype)
     nx, ny, nz = (int(s) for s in shape)
@@ -188,11 +191,13 @@ def prepare_background(shape: tuple[int, int, int], period_nm: tuple[float, floa
     sg = slab_green(kap, ka, kc, float(thickness_nm), nz, z_order + 1,
                     face_ratio_above=ratios[0], face_ratio_below=ratios[1])
     w = default_workers() if workers is None else int(workers)
-    zk = z_kernels(sg, dt, lambda a: fft_z(a, w))
+    backend = get_fft(fft, w)
+    zk = z_kernels(sg, dt, lambda a: sfft.fft(a, axis=-1, workers=w, overwrite_x=True),
+                   normalised=backend.normalised)
     ptop, pbot = face_profiles(sg)
     return Background((nx, ny, nz), (lx, ly), float(thickness_nm), ea, ec,
                       float(wavelength_nm), float(kx0), float(ky0), eb, nominal, polarisation, ef,
-                      m, n, kx, ky, sg, zk, ptop.astype(dt), pbot.astype(dt), dt, w)
+                      m, n, kx, ky, sg, zk, ptop.astype(dt), pbot.astype(dt), dt, w, backend)
 
 
 def with_contrast(bg: Background, cell: Cell) -> LayerOperator:
@@ -216,11 +221,11 @@ def prepare(cell: Cell, wavelength_nm: float, kx0: float, ky0: float, *,
             eps_background: complex | None = None, min_loss: float = DEFAULT_MIN_LOSS,
             z_order: int = 1, dtype: type = np.complex64, workers: int | None = None,
             polarisation: str = "te", eps_face: complex | None = None,
-            background: Background | None = None) -> LayerOperator:
+            background: Background | None = None, fft: str = DEFAULT_FFT) -> LayerOperator:
     """Build the operator for one cell, wavelength (nm) and Bloch vector (kx0, ky0) in 1/nm.
 
     eps_background: ε_b of the background slab (default: volume mean of ε); its imaginary part
-    is raised to min_loss if smaller.  polarisation, eps_face, z_order, dtype, workers: see
+    is raised to min_loss if smaller.  polarisation, eps_face, z_order, dtype, workers, fft: see
     prepare_background.  background: a prepared Background to reuse (then ε_b, polarisation,
     z_order, dtype and workers are the background's, and the other arguments must not
     contradict it).
@@ -236,7 +241,7 @@ def prepare(cell: Cell, wavelength_nm: float, kx0: float, ky0: float, *,
                             ky0, nominal, eps_above=complex(cell.eps_above).real,
                             eps_below=complex(cell.eps_below).real, polarisation=polarisation,
                             eps_face=eps_face, min_loss=min_loss, z_order=z_order, dtype=dtype,
-                            workers=workers)
+                            workers=workers, fft=fft)
     return with_contrast(bg, cell)
 
 
@@ -245,7 +250,7 @@ class Workspace:
 
     def __init__(self, op: LayerOperator | Background):
         nx, ny, nz = op.shape
-        self.f = np.empty(op.unknown_shape, dtype=op.dtype)
+        self.f = aligned_empty(op.unknown_shape, op.dtype)
         self.z = ZWork((nx, ny), nz, op.dtype)
 
 
@@ -253,17 +258,17 @@ def apply_green(op: LayerOperator, f: np.ndarray, ws: Workspace | None = None) -
     """Galerkin moments of G·f for source moments f (nb, nx, ny, nz) at the nodes.  f is
     overwritten: it holds the result, which is returned."""
     ws = Workspace(op) if ws is None else ws
-    fh = fft_lateral(f, op.workers)
-    apply_z(op.zk, fh, ws.z, lambda a: fft_z(a, op.workers),
-            lambda a: fft_z(a, op.workers, inverse=True))
-    return fft_lateral(fh, op.workers, inverse=True)
+    fft = op.fft
+    fh = fft.lateral(f)
+    apply_z(op.zk, fh, ws.z, fft.z, lambda a: fft.z(a, inverse=True))
+    return fft.lateral(fh, inverse=True)
 
 
 def apply_scattering(op: LayerOperator, w: np.ndarray, ws: Workspace | None = None,
                      out: np.ndarray | None = None) -> np.ndarray:
     """G V·w (the Born-series map without the source), into out or a new array."""
     if out is None:
-        return apply_green(op, np.multiply(op.contrast, w), ws)
+        out = aligned_empty(w.shape, op.dtype)
     g = apply_green(op, np.multiply(op.contrast, w, out=out), ws)
     if g.ctypes.data != out.ctypes.data:          # the FFTs transform in place (fftback)
         np.copyto(out, g)

@@ -9,6 +9,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from .energy import absorption, closure, midpoint_absorption
+from .fftback import DEFAULT_FFT
 from .kernel1d import background_amplitudes
 from .krylov import (Callback, ConvergenceError, ConvergenceWarning, KrylovOutcome,
                      WaveSolverError, bicgstab, born, gmres)
@@ -215,14 +216,15 @@ def solve(cell: Cell, incidence: Incidence, *, tol: float = DEFAULT_TOL, method:
           callback: Callback = None, eps_background: complex | None = None,
           min_loss: float = DEFAULT_MIN_LOSS, z_order: int = 1, dtype: type | None = None,
           workers: int | None = None, polarisation: str = "te",
-          eps_face: complex | None = None, background: Background | None = None
-          ) -> DiffractionResult:
+          eps_face: complex | None = None, background: Background | None = None,
+          fft: str = DEFAULT_FFT) -> DiffractionResult:
     """Diffraction of a unit plane wave by one periodic cell (see solve_prepared, prepare).
 
     For several incidences with the same Bloch vector (above and below), call prepare() once
     and solve_prepared() per side.  The returned `seconds` include the preparation.
     dtype None: complex64 when tol ≥ 1e-5 (its rounding floor is ~1e-6), else complex128.
-    polarisation 'te' | 'tm', eps_face: the face conditions (operator.prepare_background).
+    polarisation 'te' | 'tm', eps_face: the face conditions; fft: 'scipy' | 'fftw' | 'auto'
+    (operator.prepare_background).
     """
     if dtype is None:
         dtype = np.complex64 if tol >= 1e-5 else np.complex128
@@ -230,7 +232,7 @@ def solve(cell: Cell, incidence: Incidence, *, tol: float = DEFAULT_TOL, method:
     kx0, ky0 = bloch_vector(cell, incidence)
     op = prepare(cell, incidence.wavelength_nm, kx0, ky0, eps_background=eps_background,
                  min_loss=min_loss, z_order=z_order, dtype=dtype, workers=workers,
-                 polarisation=polarisation, eps_face=eps_face, background=background)
+                 polarisation=polarisation, eps_face=eps_face, background=background, fft=fft)
     res = solve_prepared(op, incidence.from_below, tol=tol, method=method, maxiter=maxiter,
                          restart=restart, on_fail=on_fail, return_field=return_field,
                          exact_energy=exact_energy, energy_bound=energy_bound, x0=x0,

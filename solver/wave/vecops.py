@@ -19,6 +19,8 @@ from typing import Iterator
 
 import numpy as np
 
+from .fftback import aligned_empty
+
 #: elements per BLAS call in inner products (partial sums in complex128 across chunks)
 CHUNK = 32768
 
@@ -40,17 +42,21 @@ def _openblas_local_setter():
 _SET_LOCAL = _openblas_local_setter()
 
 
+def set_blas_threads_local(n: int) -> int | None:
+    """Set NumPy's OpenBLAS threads for the calling thread; returns the previous count, or
+    None (and does nothing) when NumPy's BLAS has no thread-local setting."""
+    return None if _SET_LOCAL is None else int(_SET_LOCAL(int(n)))
+
+
 @contextlib.contextmanager
 def one_blas_thread() -> Iterator[None]:
     """NumPy's OpenBLAS on one thread inside the block, for the calling thread only."""
-    if _SET_LOCAL is None:
-        yield
-        return
-    previous = _SET_LOCAL(1)
+    previous = set_blas_threads_local(1)
     try:
         yield
     finally:
-        _SET_LOCAL(max(int(previous), 1))
+        if previous is not None:
+            set_blas_threads_local(max(previous, 1))
 
 
 def dot(a: np.ndarray, b: np.ndarray) -> complex:
@@ -80,8 +86,8 @@ class Basis:
             raise IndexError(f"basis has {self.rows} rows")
         b, i = divmod(j, self.BLOCK)
         while len(self.blocks) <= b:
-            self.blocks.append(np.empty((min(self.BLOCK, self.rows - len(self.blocks) * self.BLOCK),
-                                         self.size), dtype=self.dtype))
+            rows = min(self.BLOCK, self.rows - len(self.blocks) * self.BLOCK)
+            self.blocks.append(aligned_empty((rows, self.size), self.dtype))
         return self.blocks[b][i]
 
     def append(self, w: np.ndarray, scale: float) -> None:

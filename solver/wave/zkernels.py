@@ -30,6 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .fftback import aligned_empty
 from .kernel1d import SlabGreen
 from .zbasis import diag_galerkin, single_integrals
 
@@ -55,10 +56,12 @@ def _reverse(a: np.ndarray) -> np.ndarray:
     return np.concatenate([a[..., :1], a[..., :0:-1]], axis=-1)
 
 
-def z_kernels(sg: SlabGreen, dtype: type, fft) -> ZKernels:
+def z_kernels(sg: SlabGreen, dtype: type, fft, normalised: bool = True) -> ZKernels:
     """Build the reduced kernels in complex128 and store them in dtype.
 
-    fft(a) transforms along the last axis (the operator's FFT backend, operator.py).
+    fft(a) transforms along the last axis (the operator's FFT backend, fftback.py).
+    normalised False: the backend's inverse transforms do not divide by n, so 1/(2nz) (z) and
+    1/(nx·ny) (lateral) are folded into the spectra and diag1 here.
     """
     nz, nb, h = sg.nz, sg.nb, sg.h_nm
     m = 2 * nz
@@ -88,6 +91,10 @@ def z_kernels(sg: SlabGreen, dtype: type, fft) -> ZKernels:
     spec[3] += 0.5 * diag[0][..., None]
     ratio = integ[1] / integ[0] if nb > 1 else np.zeros_like(x)
     diag1 = diag[1] + ratio * ratio * diag[0] if nb > 1 else np.zeros_like(x)
+    if not normalised:
+        lateral = 1.0 / x.size
+        spec *= lateral / m
+        diag1 = diag1 * lateral
     return ZKernels(spec.astype(dtype), ratio[..., None].astype(dtype),
                     diag1[..., None].astype(dtype), nz, nb)
 
@@ -96,7 +103,7 @@ class ZWork:
     """Scratch arrays of apply_z for one lateral shape (reused across applications)."""
 
     def __init__(self, lateral: tuple[int, int], nz: int, dtype: np.dtype):
-        self.buf = np.empty((2,) + lateral + (2 * nz,), dtype=dtype)
+        self.buf = aligned_empty((2,) + lateral + (2 * nz,), dtype)
         self.ta = np.empty(lateral + (2 * nz,), dtype=dtype)
         self.tb = np.empty(lateral + (2 * nz,), dtype=dtype)
         self.v = np.empty(lateral + (nz,), dtype=dtype)
