@@ -38,6 +38,7 @@ from solver.wave import (BornDivergenceError, Cell, ConvergenceWarning, EnergyWa
 from solver.wave.fftback import fftw_available
 from solver.wave.validation import grating_errors, mie_relative_errors, slab_error
 
+from .wave_checks import energy_checks
 from .wave_tried import batched_rhs, fft_libraries
 
 PERIOD, THICK, DIAM, FILL = (2000.0, 2000.0), 1000.0, 300.0, 0.30
@@ -401,6 +402,7 @@ def main(argv: list[str] | None = None) -> int:
     shared_background()
     method_comparison()
     polarisation_cost()
+    energy_checks(reference_cell((64, 64, 32)), LAM, SIGMA)
     loss_study()
     convergence_tables()
     res_rows, res_rows0 = resolution_knob()

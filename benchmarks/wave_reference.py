@@ -61,7 +61,7 @@ def fft_floor(shape: tuple[int, int, int], workers: int, op=None, repeats: int =
 
 
 STAGES = (  # (stage, how a profile entry is recognised: (file suffix or "", function name))
-    ("FFT", ("", "c2c"), ("", "pyfftw")),
+    ("FFT", ("", "c2c"), ("wave/fftback.py", "_fftw")),
     ("z-kernel elementwise", ("wave/zkernels.py", "apply_z"), ("wave/operator.py", "convolve_z")),
     ("contrast · w, I − GV", ("wave/operator.py", "apply_system"),
      ("wave/operator.py", "apply_scattering"), ("wave/operator.py", "apply_green")),

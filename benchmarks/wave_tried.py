@@ -11,8 +11,8 @@ import time
 import numpy as np
 import scipy.fft as sfft
 
-import solver.wave.operator as wave_operator
 from solver.wave import Cell, Incidence, bloch_vector, prepare, solve_prepared
+from solver.wave.fftback import fftw_available
 
 
 def _best_cpu(fn, repeats=20) -> float:
@@ -64,31 +64,20 @@ def fft_libraries(cell: Cell, wavelength: float, sigma: float) -> None:
         print(f"{name:>28}: {1e3 * t:.2f} ms")
     kx0, ky0 = bloch_vector(cell, Incidence(wavelength, sigma))
 
-    def solve_cpu() -> float:
-        op = prepare(cell, wavelength, kx0, ky0, workers=1)
+    def solve_cpu(fft: str) -> float:
+        op = prepare(cell, wavelength, kx0, ky0, workers=1, fft=fft)
         return _best_cpu(lambda: solve_prepared(op, tol=1e-4), repeats=3)
 
-    print(f"{'solve with scipy.fft':>28}: {1e3 * solve_cpu():.1f} ms")
-    if importlib.util.find_spec("pyfftw"):
-        import pyfftw
-        import pyfftw.interfaces.scipy_fft as pf
-        pyfftw.interfaces.cache.enable()
-        saved = wave_operator.fft_lateral, wave_operator.fft_z
-        wave_operator.fft_lateral = lambda a, workers, inverse=False: (
-            pf.ifft2 if inverse else pf.fft2)(a, axes=(1, 2), workers=1, overwrite_x=True)
-        wave_operator.fft_z = lambda a, workers, inverse=False: (
-            pf.ifft if inverse else pf.fft)(a, axis=-1, workers=1, overwrite_x=True)
-        try:
-            print(f"{'solve with pyFFTW interface':>28}: {1e3 * solve_cpu():.1f} ms")
-        finally:
-            wave_operator.fft_lateral, wave_operator.fft_z = saved
+    for fft in ("scipy", "fftw") if fftw_available() else ("scipy",):
+        print(f"{'solve, fft=' + repr(fft):>28}: {1e3 * solve_cpu(fft):.1f} ms")
 
 
 def batched_rhs(cell: Cell, wavelength: float, sigma: float) -> None:
     """FFTs and spectrum products of B right-hand sides in one call (the kernel spectra read
     once for all), per right-hand side."""
     nx, ny, nz = cell.shape
-    op = prepare(cell, wavelength, *bloch_vector(cell, Incidence(wavelength, sigma)), workers=1)
+    op = prepare(cell, wavelength, *bloch_vector(cell, Incidence(wavelength, sigma)), workers=1,
+                 fft="scipy")
     spec = op.zk.spec
     print("\n--- 5b. batched right-hand sides: one application's FFTs + spectrum products, "
           "CPU ms per right-hand side ---")

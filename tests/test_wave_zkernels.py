@@ -114,3 +114,19 @@ def test_unknown_fft_backend_is_refused():
     cell = Cell(np.full((2, 2, 2), 2.0 + 0.1j), (100.0, 100.0), (0.0, 100.0))
     with pytest.raises(ValueError, match="fft must be one of"):
         prepare(cell, 500.0, 0.0, 0.0, fft="mkl")
+
+
+def test_background_pickles_for_process_pools():
+    """A prepared background (kernels, FFT backend without its plans) survives pickling and
+    gives the same operator."""
+    import pickle
+
+    from solver.wave import prepare_background, with_contrast
+
+    bg = prepare_background((8, 8, 4), (500.0, 500.0), 200.0, 500.0, 0.001, 0.0, 2.2 + 0.05j)
+    bg2 = pickle.loads(pickle.dumps(bg))
+    cell = Cell(np.full((8, 8, 4), 2.4 + 0.1j), (500.0, 500.0), (0.0, 200.0))
+    w = np.ones(bg.unknown_shape, np.complex64)
+    a = apply_system(with_contrast(bg, cell), w)
+    b = apply_system(with_contrast(bg2, cell), w)
+    assert np.array_equal(a, b) and bg2.fft.name == bg.fft.name

@@ -58,6 +58,10 @@ class FFT:
     normalised: bool
     _plans: threading.local = field(default_factory=threading.local, repr=False)
 
+    def __reduce__(self):
+        """Pickles without its plans (per process and thread): backgrounds travel to workers."""
+        return (FFT, (self.name, self.workers, self.normalised))
+
     def lateral(self, a: np.ndarray, inverse: bool = False) -> np.ndarray:
         """2-D DFT over axes (1, 2), in place; returns the result (a itself for FFTW)."""
         if self.name == "scipy":
