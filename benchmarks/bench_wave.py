@@ -25,25 +25,24 @@ import os
 import subprocess
 import sys
 import tempfile
-import time
-import warnings
 from pathlib import Path
 
 import numpy as np
 
 from solver.geometry import LayerSpec, generate, parse_particles, voxelize
 from solver.inks import parse_ink
-from solver.wave import (BornDivergenceError, Cell, ConvergenceWarning, EnergyWarning, Incidence,
-                         bloch_vector, prepare, prepare_background, solve_prepared, with_contrast)
+from solver.wave import (BornDivergenceError, Cell, Incidence, bloch_vector, prepare,
+                         prepare_background, with_contrast)
 from solver.wave.fftback import fftw_available
 from solver.wave.validation import grating_errors, mie_relative_errors, slab_error
 
-from .wave_checks import energy_checks
+from .wave_checks import (cpu_time, energy_checks, loss_study, polarisation_cost, print_rows,
+                          quiet_solve)
 from .wave_tried import batched_rhs, fft_libraries
 
 PERIOD, THICK, DIAM, FILL = (2000.0, 2000.0), 1000.0, 300.0, 0.30
 ETA_PIGMENT, ETA_BINDER = 1.4 + 0.2j, 1.558
-LAM, SIGMA, TOL, SEED = 500.0, math.radians(25.0), 1e-4, 1
+LAM, SIGMA, SEED = 500.0, math.radians(25.0), 1
 BASELINE = "98de97b"
 OUT = Path("out/bench")
 ROOT = Path(__file__).resolve().parent.parent
@@ -60,22 +59,6 @@ def reference_cell(shape, eta_pigment=ETA_PIGMENT, seed=SEED) -> Cell:
     f = dict(zip(vox.materials, vox.fractions.astype(np.float64)))
     eps = f["binder"] * ETA_BINDER ** 2 + f["air"] * 1.0 + f["R"] * eta_pigment ** 2
     return Cell(eps, PERIOD, vox.z_range_nm)
-
-
-def _print_rows(rows, cols):
-    print("  ".join(f"{c:>11}" for c in cols))
-    for r in rows:
-        cells = []
-        for c in cols:
-            v = r.get(c, "")
-            cells.append(f"{v:>11.4g}" if isinstance(v, float) else f"{str(v):>11}")
-        print("  ".join(cells), flush=True)
-
-
-def _cpu(fn):
-    t = time.process_time()
-    out = fn()
-    return out, time.process_time() - t
 
 
 # ------------------------------------------------------------------------------ 1. reference
@@ -128,7 +111,7 @@ def reference_runs(baseline: str, shapes=((64, 64, 32), (128, 128, 64))) -> list
                          ratio=r["solve_cpu"] / r["fft_floor"],
                          ratio_all=(r["solve_cpu"] + r["prepare_cpu"]) / r["fft_floor"])
                 rows.append(r)
-    _print_rows(rows, ["shape", "code", "apps", "prepare_cpu", "solve_cpu", "solve_wall",
+    print_rows(rows, ["shape", "code", "apps", "prepare_cpu", "solve_cpu", "solve_wall",
                        "fft_floor", "ratio", "ratio_all", "first_cpu", "traced_MB", "rss_MB",
                        "energy"])
     print("ratio = solve / FFT floor; ratio_all = (prepare + solve) / FFT floor (the floor with "
@@ -145,13 +128,6 @@ def reference_runs(baseline: str, shapes=((64, 64, 32), (128, 128, 64))) -> list
 
 
 # ------------------------------------------------------------------------------ 2. knobs
-def _solve(op, tol=TOL, **kw):
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", ConvergenceWarning)
-        warnings.simplefilter("ignore", EnergyWarning)
-        return _cpu(lambda: solve_prepared(op, tol=tol, maxiter=1000, **kw))
-
-
 def _diffuse(res) -> np.ndarray:
     """Power of every non-00 order (reflected then transmitted)."""
     out = []
@@ -170,17 +146,17 @@ def tolerance_curve(shape=(64, 64, 32)) -> list[dict]:
                              ("k=1.1 80°", 1.4 + 1.1j, math.radians(80.0))):
         cell = reference_cell(shape, eta)
         kx0, ky0 = bloch_vector(cell, Incidence(LAM, sigma))
-        ref, _ = _solve(prepare(cell, LAM, kx0, ky0, dtype=np.complex128, workers=1), tol=1e-6)
+        ref, _ = quiet_solve(prepare(cell, LAM, kx0, ky0, dtype=np.complex128, workers=1), tol=1e-6)
         op = prepare(cell, LAM, kx0, ky0, workers=1)
         for tol in (1e-2, 3e-3, 1e-3, 3e-4, 1e-4):
-            res, cpu = min((_solve(op, tol=tol) for _ in range(2)), key=lambda rc: rc[1])
+            res, cpu = min((quiet_solve(op, tol=tol) for _ in range(2)), key=lambda rc: rc[1])
             dd = np.abs(_diffuse(res) - _diffuse(ref))
             rows.append(dict(case=case, tol=tol, apps=res.applications, cpu_s=cpu,
                              dR=abs(res.R - ref.R), dT=abs(res.T - ref.T),
                              dR_spec=abs(res.R_spec - ref.R_spec),
                              dT_coh=abs(res.T_coh - ref.T_coh), d_diffuse=float(dd.sum()),
                              max_order=float(dd.max()), energy=res.energy_error))
-    _print_rows(rows, ["case", "tol", "apps", "cpu_s", "dR", "dT", "dR_spec", "dT_coh",
+    print_rows(rows, ["case", "tol", "apps", "cpu_s", "dR", "dT", "dR_spec", "dT_coh",
                        "d_diffuse", "max_order", "energy"])
     print("d_diffuse: Σ|ΔP| over all non-00 orders; max_order: the largest |ΔP| of one order; "
           "energy: the residual closure R+T+A−1")
@@ -203,8 +179,8 @@ def warm_starts(shape=(64, 64, 32)) -> None:
         prev = None
         for lam, sig, phi in seq:
             op = prepare(cell, lam, *bloch_vector(cell, Incidence(lam, sig, phi)), workers=1)
-            cold, c1 = _solve(op)
-            warm, c2 = _solve(op, x0=None if prev is None else prev.solution)
+            cold, c1 = quiet_solve(op)
+            warm, c2 = quiet_solve(op, x0=None if prev is None else prev.solution)
             prev = warm
             cold_apps += cold.applications
             warm_apps += warm.applications
@@ -220,8 +196,8 @@ def warm_starts(shape=(64, 64, 32)) -> None:
     prev = None
     for c in cells:
         op = prepare(c, LAM, kx0, ky0, workers=1)
-        cold += _solve(op)[0].applications
-        res = _solve(op, x0=None if prev is None else prev.solution)[0]
+        cold += quiet_solve(op)[0].applications
+        res = quiet_solve(op, x0=None if prev is None else prev.solution)[0]
         warm += res.applications
         prev = res
     print(f"{'across 4 realizations':>30}: applications {cold} → {warm} ({warm / cold:.2f})")
@@ -236,16 +212,16 @@ def shared_background(shape=(64, 64, 32)) -> None:
     own_prep = shared_prep = 0.0
     own_apps = shared_apps = 0
     worst = 0.0
-    bg, t_bg = _cpu(lambda: prepare_background(shape, PERIOD, THICK, LAM, kx0, ky0, eps_b,
+    bg, t_bg = cpu_time(lambda: prepare_background(shape, PERIOD, THICK, LAM, kx0, ky0, eps_b,
                                                workers=1))
     shared_prep += t_bg
     for c in cells:
-        op, t = _cpu(lambda: prepare(c, LAM, kx0, ky0, workers=1))
+        op, t = cpu_time(lambda: prepare(c, LAM, kx0, ky0, workers=1))
         own_prep += t
-        own, _ = _solve(op)
-        op2, t2 = _cpu(lambda: with_contrast(bg, c))
+        own, _ = quiet_solve(op)
+        op2, t2 = cpu_time(lambda: with_contrast(bg, c))
         shared_prep += t2
-        shared, _ = _solve(op2)
+        shared, _ = quiet_solve(op2)
         own_apps += own.applications
         shared_apps += shared.applications
         worst = max(worst, abs(own.R - shared.R), abs(own.T - shared.T),
@@ -263,39 +239,13 @@ def method_comparison(shape=(64, 64, 32)) -> None:
         op = prepare(cell, LAM, *bloch_vector(cell, Incidence(LAM, SIGMA)), workers=1)
         for method in ("gmres", "bicgstab", "born"):
             try:
-                res, cpu = _solve(op, method=method)
+                res, cpu = quiet_solve(op, method=method)
                 rows.append(dict(case=case, method=method, apps=res.applications, cpu_s=cpu,
                                  residual=res.residual, converged=res.converged, note=""))
             except BornDivergenceError as err:
                 rows.append(dict(case=case, method=method, apps=len(err.residuals),
                                  converged=False, note=f"diverges ×{err.growth_factor:.2f}/it"))
-    _print_rows(rows, ["case", "method", "apps", "cpu_s", "residual", "converged", "note"])
-
-
-def polarisation_cost(shape=(64, 64, 32)) -> None:
-    print("\n--- 2e. TE vs TM on the reference case (tol 1e-4) ---")
-    cell = reference_cell(shape)
-    kx0, ky0 = bloch_vector(cell, Incidence(LAM, SIGMA))
-    for pol in ("te", "tm"):
-        op, tp = _cpu(lambda: prepare(cell, LAM, kx0, ky0, workers=1, polarisation=pol))
-        res, cpu = _solve(op)
-        print(f"{pol}: prepare {tp:.3f} s, solve {cpu:.3f} s, {res.applications} applications, "
-              f"R {res.R:.4f} T {res.T:.4f} R_spec {res.R_spec:.4f} A {res.absorbed:.4f} "
-              f"E {res.energy_error:.1e}")
-
-
-def loss_study() -> None:
-    print("\n--- 2f. fictitious loss δ = min Im ε_b on a lossless layer (η = 1.4), 32×32×16, "
-          "tol 1e-5 ---")
-    cell = reference_cell((32, 32, 16), 1.4 + 0j)
-    kx0, ky0 = bloch_vector(cell, Incidence(LAM, SIGMA))
-    rows = []
-    for delta in (0.003, 0.01, 0.03, 0.1, 0.3):
-        op = prepare(cell, LAM, kx0, ky0, min_loss=delta, workers=1)
-        res, cpu = _solve(op, tol=1e-5, exact_energy=True)
-        rows.append(dict(delta=delta, apps=res.applications, cpu_s=cpu, A=res.absorbed,
-                         energy=res.energy_error))
-    _print_rows(rows, ["delta", "apps", "cpu_s", "A", "energy"])
+    print_rows(rows, ["case", "method", "apps", "cpu_s", "residual", "converged", "note"])
 
 
 def convergence_tables() -> None:
@@ -341,8 +291,8 @@ def resolution_knob() -> tuple[list[dict], list[dict]]:
     def run(shape, z_order):
         cell = reference_cell(shape)
         kx0, ky0 = bloch_vector(cell, Incidence(LAM, SIGMA))
-        op, tp = _cpu(lambda: prepare(cell, LAM, kx0, ky0, z_order=z_order, workers=1))
-        res, ts = _solve(op)
+        op, tp = cpu_time(lambda: prepare(cell, LAM, kx0, ky0, z_order=z_order, workers=1))
+        res, ts = quiet_solve(op)
         return dict(shape="×".join(map(str, shape)), method=f"P{z_order}", apps=res.applications,
                     seconds=tp + ts, R=res.R, T=res.T, R_spec=res.R_spec, T_coh=res.T_coh,
                     energy=res.energy_error)
@@ -353,7 +303,7 @@ def resolution_knob() -> tuple[list[dict], list[dict]]:
     rows0 = [run(s, 0) for s in shapes[:5]]
     for r in rows + rows0:
         r["error"] = sum(abs(r[k] - ref[k]) for k in ("R", "T", "R_spec", "T_coh"))
-    _print_rows(rows + rows0, ["shape", "method", "apps", "seconds", "error", "R_spec", "T_coh",
+    print_rows(rows + rows0, ["shape", "method", "apps", "seconds", "error", "R_spec", "T_coh",
                                "energy"])
     return rows, rows0
 
@@ -401,9 +351,9 @@ def main(argv: list[str] | None = None) -> int:
     warm_starts()
     shared_background()
     method_comparison()
-    polarisation_cost()
+    polarisation_cost(reference_cell((64, 64, 32)), LAM, SIGMA)
     energy_checks(reference_cell((64, 64, 32)), LAM, SIGMA)
-    loss_study()
+    loss_study(reference_cell((32, 32, 16), 1.4 + 0j), LAM, SIGMA)
     convergence_tables()
     res_rows, res_rows0 = resolution_knob()
     plot(res_rows, res_rows0, tol_rows)
