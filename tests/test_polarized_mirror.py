@@ -50,6 +50,7 @@ def as_numpy(mi, value):
     Dr.Jit keeps as width-1 literals (a depolariser's zeros) are broadcast to N lanes."""
     import drjit as dr
 
+    dr.eval(value)                              # one kernel for all 64 entries, not one each
     n = dr.width(value)
     lanes = lambda x: np.broadcast_to(np.asarray(x, dtype=np.float64), (n,))      # noqa: E731
     if mi.is_polarized:
@@ -254,11 +255,14 @@ def _random_lanes(rng, n):
 
 def run_bsdf(mi, bsdf, wi, wo, lam, u):
     """eval, pdf, sample weight, sampled wo, sample pdf, sampled component (full context)."""
+    import drjit as dr
+
     ctx = mi.BSDFContext()
     si = interaction(mi, wi, lam)
     f, p = bsdf.eval_pdf(ctx, si, mi.Vector3f(*[mi.Float(c) for c in wo]))
     f_only = bsdf.eval(ctx, si, mi.Vector3f(*[mi.Float(c) for c in wo]))
     bs, w = bsdf.sample(ctx, si, mi.Float(u[0]), mi.Point2f(mi.Float(u[1]), mi.Float(u[2])))
+    dr.eval(f, p, f_only, bs, w)
     return (as_numpy(mi, f), np.asarray(p), as_numpy(mi, f_only), as_numpy(mi, w),
             np.array([np.asarray(bs.wo[i]) for i in range(3)]), np.asarray(bs.pdf),
             np.asarray(bs.sampled_component))
