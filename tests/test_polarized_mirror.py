@@ -45,13 +45,13 @@ def interaction(mi, wi, lam):
     return si
 
 
-def as_numpy(mi, value):
+def as_numpy(mi, value, n=None):
     """A sample/eval value → [4, 4, 4 λ, N] (Mueller) or [4 λ, N] (unpolarized); entries that
     Dr.Jit keeps as width-1 literals (a depolariser's zeros) are broadcast to N lanes."""
     import drjit as dr
 
     dr.eval(value)                              # one kernel for all 64 entries, not one each
-    n = dr.width(value)
+    n = dr.width(value) if n is None else n
     lanes = lambda x: np.broadcast_to(np.asarray(x, dtype=np.float64), (n,))      # noqa: E731
     if mi.is_polarized:
         return np.array([[[lanes(value[i][j][k]) for k in range(4)] for j in range(4)] for i in range(4)])
@@ -322,3 +322,35 @@ def test_tables_without_amplitudes_are_refused(use_variant, tmp_path):
         for needle in ("te.npz", "r_s, r_p", "polarisation 'te'", "'unpolarised'", "'llvm_ad_spectral'"):
             assert needle in message, (needle, message)
         assert len(message.splitlines()) <= 4, message               # short, no caller stack
+
+
+def test_hard_directions_are_finite(use_variant, clear_table, tmp_path):
+    """Normal incidence (no plane of incidence), grazing, barely above and below the surface,
+    in both transport modes and for either lobe alone: finite Mueller matrices, zero below the
+    surface and at grazing incidence, and the mirror exact at normal incidence (b = 0, S = 0)."""
+    path = write_table(tmp_path / "clear.npz", clear_table)
+    mi = use_variant(POLARIZED)
+    bsdf = mi.load_dict({"type": "ink", "filename": str(path), "paper": 0.9, "coverage": 0.9})
+    wi = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.6, 0.8, 1e-7], [0.6, 0.8, 1e-4],
+                   [0.0, 0.0, -1.0], [0.6, 0.0, -0.8], [0.6, 0.8, -1e-7]]).T
+    wi /= np.linalg.norm(wi, axis=0)
+    lam = np.tile([[400.0], [500.0], [600.0], [700.0]], (1, wi.shape[1]))
+    for mode, _ in _both_modes(mi):
+        for mask in (mi.BSDFFlags.DeltaReflection, mi.BSDFFlags.DiffuseReflection, mi.BSDFFlags.All):
+            ctx = mi.BSDFContext(mode)
+            ctx.type_mask = +mask
+            for u in (0.01, 0.5, 0.99):
+                n = wi.shape[1]
+                si = interaction(mi, wi, lam)
+                _, w = bsdf.sample(ctx, si, mi.Float(np.full(n, u)), mi.Point2f(mi.Float(np.full(n, u)),
+                                                                             mi.Float(np.full(n, 0.3))))
+                f = bsdf.eval(ctx, si, mi.Vector3f(*[mi.Float(c) for c in wi[:, [3] * n]]))
+                w, f = as_numpy(mi, w, n), as_numpy(mi, f, n)
+                assert np.all(np.isfinite(w)) and np.all(np.isfinite(f)), (mode, mask, u)
+                assert np.all(w[..., [1, 4, 5, 6]] == 0) and np.all(f[..., [1, 4, 5, 6]] == 0)
+    normal, _, _ = delta_sample(mi, bsdf, wi[:, :1], lam[:, :1])
+    a = normal[0, 0]
+    assert np.all(a > 0.01)
+    np.testing.assert_allclose(np.abs(normal[1, 1]) + np.abs(normal[1, 2]), a, rtol=1e-5)   # |rotation| · a
+    np.testing.assert_allclose(np.abs(normal[3, 3]), a, rtol=1e-5)                            # C = −a, S = 0
+    np.testing.assert_allclose(normal[0, 1:], 0.0, atol=1e-7)                                 # b = 0
