@@ -10,7 +10,6 @@ with `mi.mueller.rotate_mueller_basis` as Mitsuba's specular plugins do; and the
 
 from __future__ import annotations
 
-import dataclasses
 
 import numpy as np
 import pytest
