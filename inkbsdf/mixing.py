@@ -10,8 +10,8 @@ inks; S = ∅ bare paper, T̄ = τ̄ = 1, ρ̄ = R = R_spec = 0) its table's qua
 
 `PrintModel.incident` computes what depends on ωi only (one σ lookup per primary; equal grids
 are located once); `diffuse` adds what depends on ωo. In polarized variants `mirror` gives the
-delta lobe's Mueller elements Σ a_S (b, C, S)_S besides its M00 = `Incident.specular`. The reference (NumPy) implementation of
-the same formulas is `solver.printing`.
+delta lobe's Mueller elements Σ a_S (b, C, S)_S besides its M00 = `Incident.specular`. The
+reference (NumPy) implementation of the same formulas is `solver.printing`.
 """
 
 from __future__ import annotations
@@ -141,11 +141,6 @@ class PrintModel:
         """Probability of sampling the delta lobe: mean_λ(specular) / mean_λ(total albedo)."""
         spec = lane_mean(inc.specular)
         return safe_div(spec, spec + lane_mean(inc.albedo_diffuse))
-
-    @property
-    def has_mirror_sp(self) -> bool:
-        """Every primary's table has the mirror beam's s/p Mueller elements (polarized variants)."""
-        return all(m.has_mirror_sp for _, m in self.primaries)
 
     def mirror(self, inc: Incident):
         """Σ a_S (b, C, S)_S: the delta lobe's Mueller elements besides M00 = inc.specular, in

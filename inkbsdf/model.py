@@ -11,9 +11,9 @@
 σ = polar angle of ωi (toward the light), θ = polar angle of ωo (toward the viewer), both in
 Mitsuba's local frame and pointing away from the surface; Δφ = |φi − φo| folded into [0, π]
 (π = mirror, 0 = retro-reflection). Spectra are `mi.UnpolarizedSpectrum` (= `mi.Spectrum` in
-unpolarized variants; in polarized ones `mi.Spectrum` is a Mueller matrix). How the inks of a print and the paper combine these is
-`inkbsdf.mixing`. Every quantity comes from the table at the lane's wavelengths (clamped to
-the table's range). Divisions elsewhere use `safe_div`: no lane ever yields NaN or Inf.
+unpolarized variants; in polarized ones `mi.Spectrum` is a Mueller matrix). How the inks of a
+print and the paper combine these is `inkbsdf.mixing`. Every quantity comes from the table at
+the lane's wavelengths (clamped to the table's range). Divisions elsewhere use `safe_div`: no lane ever yields NaN or Inf.
 """
 
 from __future__ import annotations
@@ -69,7 +69,7 @@ class InkModel:
     """Dr.Jit lookup tables of one ink; built under (and used with) one Mitsuba variant.
 
     In polarized variants a table with s and p amplitudes (`lut.mirror_sp`) also gets the
-    mirror beam's Mueller elements (`mirror`); `has_mirror_sp` says whether it has them."""
+    mirror beam's Mueller elements (`mirror`, when `has_mirror_sp`)."""
 
     def __init__(self, lut: InkLUT):
         self.has_diffuse = lut.has_diffuse
