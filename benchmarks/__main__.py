@@ -10,7 +10,8 @@ import importlib
 import sys
 import time
 
-STUDIES = ("geometry", "wave", "render", "tables", "findings", "polarisation", "printing", "figures")
+STUDIES = ("geometry", "wave", "render", "tables", "findings", "polarisation", "printing", "figures",
+           "polarized")
 
 
 def main(argv: list[str]) -> int:
