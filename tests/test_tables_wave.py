@@ -242,3 +242,18 @@ def test_wave_table_in_the_bsdf(use_variant, table_and_request, tmp_path):
     for deg in (0.0, 40.0, 75.0):
         mean, err = sampled_albedo(mi, bsdf, deg, rng.uniform(430.0, 700.0, size=(4, 1 << 15)))
         assert 0.05 < mean <= 1.0 + 4.5 * err + 1e-4
+
+
+def test_target_se_adds_realizations_until_met_or_capped(tmp_path, caplog):
+    import logging
+
+    loose = build_table(small(target_se=0.5), opts(tmp_path / "a"))
+    assert loose.meta["realizations_used"] == 2 and len(loose.meta["seeds"]) == 2
+    with caplog.at_level(logging.INFO, logger="inkbsdf.tables"):
+        tight = build_table(small(target_se=1e-6, max_realizations=3), opts(tmp_path / "b"))
+    assert tight.meta["realizations_used"] == 3 and tight.errors["Rbar"].shape == tight.Rbar.shape
+    # the third realization's units were the only new ones: 2 λ, nothing recomputed
+    assert any("2 of 6 units to compute (4 reused)" in r.message for r in caplog.records), \
+        [r.message for r in caplog.records]
+    same = build_table(small(realizations=3), opts(tmp_path / "c"))
+    np.testing.assert_array_equal(tight.Rbar, same.Rbar)

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import dataclasses
 import logging
+import math
 import os
 import time
 from dataclasses import dataclass, field
@@ -89,12 +90,13 @@ def _cached_units(request, opts, names, make_unit, fn, encode, decode, desc):
     return results
 
 
-def _geometry(request, opts, timer):
+def _geometry(request, opts, timer, realizations=None):
     from .wave_tier import GeometryUnit, geometry_unit
 
+    rs = list(range(request.wave.realizations) if realizations is None else realizations)
     t0 = time.perf_counter()
-    out = _cached_units(request, opts, [f"geom_r{r}" for r in range(request.wave.realizations)],
-                        lambda r: GeometryUnit(request, r), geometry_unit,
+    out = _cached_units(request, opts, [f"geom_r{r}" for r in rs],
+                        lambda k: GeometryUnit(request, rs[k]), geometry_unit,
                         _voxels_to_arrays, _voxels_from_arrays, "geometry")
     timer.add("geometry", time.perf_counter() - t0)
     return out
@@ -150,16 +152,41 @@ def build_table(request: TableRequest, opts: BuildOptions | None = None) -> InkT
         voxels = _geometry(request, opts, timer)
     method = "born" if tier == "born" else "full"
     nl, nr = len(request.grids.wavelengths_nm), request.wave.realizations
-    pairs = [(r, li) for r in range(nr) for li in range(nl)]
-    flat = _solves(request, opts, timer, method, voxels, pairs)
-    units = [[flat[r * nl + li] for li in range(nl)] for r in range(nr)]
-    t0 = time.perf_counter()
-    meta = table_meta(request, tier, reason, seeds=[realization_seed(request, r) for r in range(nr)],
-                      timings_s=timer.stages, extra={"tier_probe": report})
-    table = reduce_units(request, units, meta)
-    timer.add("reduce", time.perf_counter() - t0)
+    while True:
+        voxels = voxels + _geometry(request, opts, timer, range(len(voxels), nr))
+        flat = _solves(request, opts, timer, method, voxels, [(r, li) for r in range(nr) for li in range(nl)])
+        units = [[flat[r * nl + li] for li in range(nl)] for r in range(nr)]
+        t0 = time.perf_counter()
+        meta = table_meta(request, tier, reason, seeds=[realization_seed(request, r) for r in range(nr)],
+                          timings_s=timer.stages, extra={"tier_probe": report, "realizations_used": nr})
+        table = reduce_units(request, units, meta)
+        timer.add("reduce", time.perf_counter() - t0)
+        more = _more_realizations(request, table, nr)
+        if more == nr:
+            break
+        log.info("standard error %s above --target-se %g with %d realizations: going on to %d",
+                 _worst_se(table), request.wave.target_se, nr, more)
+        nr = more
     table.meta["timings_s"] = dict(timer.stages)
     return table
+
+
+def _worst_se(table: InkTable) -> float | None:
+    values = [table.meta["errors"].get(f"{k}_se_max") for k in ("Rbar", "Tbar")]
+    return None if None in values else max(values)
+
+
+def _more_realizations(request: TableRequest, table: InkTable, done: int) -> int:
+    """How many realizations the table needs for --target-se (`done` when it is met, not
+    asked, or the cap is reached): N·(SE/target)², at least one more."""
+    target = request.wave.target_se
+    if target is None or done >= request.wave.max_realizations:
+        return done
+    se = _worst_se(table)
+    if se is not None and se <= target:
+        return done
+    wanted = done + 1 if se is None else math.ceil(done * (se / target) ** 2)
+    return min(request.wave.max_realizations, max(done + 1, wanted))
 
 
 def get_or_build(request: TableRequest, opts: BuildOptions | None = None) -> tuple[InkTable, str, bool]:
