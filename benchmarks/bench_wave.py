@@ -21,8 +21,6 @@ from __future__ import annotations
 
 import json
 import math
-import os
-import subprocess
 import sys
 import tempfile
 from pathlib import Path
@@ -36,6 +34,7 @@ from solver.wave import (BornDivergenceError, Cell, Incidence, bloch_vector, pre
 from solver.wave.fftback import fftw_available
 from solver.wave.validation import grating_errors, mie_relative_errors, slab_error
 
+from .baseline import ROOT, extract, run_python
 from .wave_checks import (cpu_time, energy_checks, loss_study, polarisation_cost, print_rows,
                           quiet_solve)
 from .wave_tried import batched_rhs, fft_libraries
@@ -45,7 +44,6 @@ ETA_PIGMENT, ETA_BINDER = 1.4 + 0.2j, 1.558
 LAM, SIGMA, SEED = 500.0, math.radians(25.0), 1
 BASELINE = "98de97b"
 OUT = Path("out/bench")
-ROOT = Path(__file__).resolve().parent.parent
 TABLE_SIGMA_DEG = (0.0, 15.0, 30.0, 45.0, 60.0, 70.0, 80.0)
 TABLE_WAVELENGTHS = tuple(np.arange(380.0, 781.0, 20.0))
 
@@ -62,28 +60,13 @@ def reference_cell(shape, eta_pigment=ETA_PIGMENT, seed=SEED) -> Cell:
 
 
 # ------------------------------------------------------------------------------ 1. reference
-def _extract(rev: str, dest: Path) -> Path | None:
-    """solver/ of git revision rev under dest, or None if git cannot provide it."""
-    try:
-        archive = subprocess.run(["git", "-C", str(ROOT), "archive", rev, "solver"],
-                                 check=True, capture_output=True).stdout
-        subprocess.run(["tar", "-x", "-C", str(dest)], input=archive, check=True)
-    except (OSError, subprocess.CalledProcessError) as err:
-        print(f"(baseline {rev} unavailable: {err})")
-        return None
-    return dest
-
-
 def _child(tree: Path, eps_path: Path, out: Path, workers: int, repeats: int,
            fft: str | None = None) -> dict:
     """The harness in a fresh process with `tree` first on the path (then the caller's other
     PYTHONPATH entries, e.g. where optional packages live)."""
-    extra = [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep)
-             if p and Path(p).resolve() != ROOT]
-    env = {"PYTHONPATH": os.pathsep.join([str(tree)] + extra), "PATH": "/usr/bin:/bin"}
-    subprocess.run([sys.executable, str(ROOT / "benchmarks" / "wave_reference.py"),
-                    str(eps_path), str(out), "--workers", str(workers), "--repeats",
-                    str(repeats)] + ([] if fft is None else ["--fft", fft]), check=True, env=env)
+    run_python(tree, [str(ROOT / "benchmarks" / "wave_reference.py"), str(eps_path), str(out),
+                      "--workers", str(workers), "--repeats", str(repeats)]
+               + ([] if fft is None else ["--fft", fft]))
     return json.loads(out.read_text())
 
 
@@ -93,8 +76,7 @@ def reference_runs(baseline: str, shapes=((64, 64, 32), (128, 128, 64))) -> list
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
-        (tmp / "old").mkdir()
-        old_tree = _extract(baseline, tmp / "old")
+        old_tree = extract(baseline, tmp / "old")
         for shape in shapes:
             eps_path = tmp / f"eps_{shape[0]}.npy"
             np.save(eps_path, np.asarray(reference_cell(shape).eps))
