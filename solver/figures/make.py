@@ -11,7 +11,7 @@ import logging
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..table.builder import BuildOptions
+from ..table.builder import BuildOptions, pooled
 from . import findings
 from .cell_colour import PAPER_ALBEDO, cell_colour, node_errors
 from .cells import CellResult, FigureSettings, build_cells, estimates, plan_cells, failure_reason
@@ -142,7 +142,9 @@ def make_figure(figure: str, rows, columns, settings: FigureSettings, opts: Buil
          f"{len(plans) - cached - unplanned} to build (estimated {duration(sum(seconds))} {where})"
          + (f", {unplanned} cannot be planned (drawn crossed out)" if unplanned else ""))
     geometry = CellGeometry() if figure in GRID_FIGURES else None
-    results, colours, pictures = evaluate_cells(build_cells(plans, opts, seconds, progress=opts.progress), geometry)
+    with pooled(opts) as running:                  # one pool of workers for every table of the figure
+        built = build_cells(plans, running, seconds, progress=opts.progress)
+    results, colours, pictures = evaluate_cells(built, geometry)
     if geometry is not None:
         draw_grid_figure(figure, rows, columns, pictures, settings.label, out_png, geometry)
     else:

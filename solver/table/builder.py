@@ -10,6 +10,7 @@ tier, so they count toward the table when the full tier is chosen.
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import logging
 import math
@@ -21,7 +22,7 @@ import numpy as np
 
 from . import tier_choice
 from .cache import TableCache
-from .executor import check_scheduler, default_workers, run_units
+from .executor import check_scheduler, default_workers, local_pool, run_units
 from .meta import table_meta
 from .request import RequestError, TableRequest
 from .schema import InkTable
@@ -38,6 +39,7 @@ class BuildOptions:
     scheduler: str | None = None         # Dask scheduler address: run the units there instead
     progress: bool = True
     cache: TableCache = field(default_factory=TableCache.default)
+    pool: object = field(default=None, compare=False)   # a running executor.local_pool to reuse
 
     def __post_init__(self):
         if not isinstance(self.workers, (int, np.integer)) or isinstance(self.workers, bool) or self.workers < 1:
@@ -84,7 +86,7 @@ def _cached_units(request, opts, names, make_unit, fn, encode, decode, desc):
         log.info("%s: %d of %d units to compute (%d reused)", desc, len(todo), len(names), len(names) - len(todo))
         store = lambda k, res: cache.store_part(request, names[todo[k]], encode(res))
         fresh = run_units(fn, [make_unit(i) for i in todo], workers=opts.workers, scheduler=opts.scheduler,
-                          desc=desc, on_result=store, progress=opts.progress)
+                          desc=desc, on_result=store, progress=opts.progress, pool=opts.pool)
         for k, i in enumerate(todo):
             results[i] = fresh[k]
     return results
@@ -124,13 +126,30 @@ def _film_table(request: TableRequest, tier: str, reason: str, timer: _Timer, ex
                                                             "mixing_rule": film.meta.get("mixing_rule")}))
 
 
+@contextlib.contextmanager
+def pooled(opts: BuildOptions):
+    """`opts` with a process pool that lives for the whole block (one spawn for all the
+    stages of a build, or for all the tables of a figure); unchanged when no local pool is
+    wanted (one worker, Dask) or one is running already."""
+    if opts.pool is not None or opts.scheduler or opts.workers <= 1:
+        yield opts
+        return
+    with local_pool(opts.workers) as pool:
+        yield dataclasses.replace(opts, pool=pool)
+
+
 def build_table(request: TableRequest, opts: BuildOptions | None = None) -> InkTable:
     """Compute the table of a request (no lookup of the finished table; parts are reused)."""
     opts = opts or BuildOptions()
-    timer = _Timer()
     if request.molecular:
         return _film_table(request, "thin-film", "homogeneous layer: exact Airy (transfer-matrix) solution",
-                           timer)
+                           _Timer())
+    with pooled(opts) as opts:
+        return _build_wave(request, opts)
+
+
+def _build_wave(request: TableRequest, opts: BuildOptions) -> InkTable:
+    timer = _Timer()
     from .wave_ensemble import reduce_units
     from .wave_tier import realization_seed
 
