@@ -69,15 +69,20 @@ def scene_dict(width: int, height: int, spp: int) -> dict:
 
 
 def render_still_life(width: int = SIZE[0], height: int = SIZE[1], spp: int = SPP) -> np.ndarray:
-    """The photograph as 8-bit sRGB [height, width, 3]."""
+    """The photograph as 8-bit sRGB [height, width, 3] (rendered in llvm_ad_rgb, else
+    scalar_rgb; the previous variant is restored)."""
     import mitsuba as mi
 
     from inkbsdf.imageio import srgb_encode
 
-    if mi.variant() is None or "rgb" not in mi.variant():
-        mi.set_variant("llvm_ad_rgb" if "llvm_ad_rgb" in mi.variants() else "scalar_rgb")
-    image = mi.render(mi.load_dict(scene_dict(width, height, spp)), seed=0)
-    return srgb_encode(np.asarray(image, dtype=np.float64)[:, :, :3])
+    previous = mi.variant()
+    mi.set_variant("llvm_ad_rgb" if "llvm_ad_rgb" in mi.variants() else "scalar_rgb")
+    try:
+        image = mi.render(mi.load_dict(scene_dict(width, height, spp)), seed=0)
+        return srgb_encode(np.asarray(image, dtype=np.float64)[:, :, :3])
+    finally:
+        if previous is not None:
+            mi.set_variant(previous)
 
 
 def write_png8(path, rgb8: np.ndarray) -> Path:

@@ -63,3 +63,15 @@ def delta_e2000(lab1, lab2) -> np.ndarray:
     from colour.difference import delta_E_CIE2000
 
     return np.asarray(delta_E_CIE2000(np.asarray(lab1, dtype=np.float64), np.asarray(lab2, dtype=np.float64)))
+
+
+def lab_to_srgb8(lab) -> np.ndarray:
+    """8-bit sRGB of CIELAB colours taken relative to the sRGB white (a soft proof: a print's
+    Lab relative to its paper shows the paper as display white), clipped to the sRGB gamut."""
+    from colour import Lab_to_XYZ
+
+    from ..colour import encode_srgb, xyz_to_linear_srgb
+
+    d65_xy = np.array([0.3127, 0.3290])
+    xyz = Lab_to_XYZ(np.asarray(lab, dtype=np.float64), d65_xy)
+    return np.round(255.0 * encode_srgb(xyz_to_linear_srgb(xyz))).astype(np.uint8)

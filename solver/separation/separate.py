@@ -59,12 +59,21 @@ class ImageSeparation:
 
 def separate_image(model: PrintColourModel, rgb8: np.ndarray, settings: SolverSettings = SolverSettings(),
                    progress=None) -> ImageSeparation:
-    """Separate an 8-bit sRGB image [rows, columns, 3]; `progress(n)` after each chunk of n
-    distinct colours."""
+    """Separate an 8-bit sRGB image [rows, columns, 3]; `progress(done, total)` is called with
+    the number of distinct colours separated so far and their total."""
     t0 = time.perf_counter()
     rows, cols = rgb8.shape[:2]
     colours, index = unique_colours(rgb8)
-    sep: Separation = separate_lab(model, srgb8_to_lab(colours), settings, progress=progress)
+    done = [0]
+
+    def chunk_done(n: int) -> None:
+        done[0] += n
+        progress(done[0], colours.shape[0])
+
+    if progress is not None:
+        progress(0, colours.shape[0])
+    sep: Separation = separate_lab(model, srgb8_to_lab(colours), settings,
+                                   progress=chunk_done if progress is not None else None)
     counts = np.bincount(index, minlength=colours.shape[0])
     de = sep.delta_e76
     clipped = sep.out_of_gamut
