@@ -15,7 +15,8 @@ with the softbox's mirror image on the paragraph instead of the patches.  Its in
 in the scene (`ink`, `particles`): loading it builds the missing tables through the cache
 (wave solver, minutes per table).
 The outputs are committed; rerun after changing a layout (the photograph's separation takes
-a few seconds; `--no-photo` keeps the committed photograph textures).
+a few seconds; `--no-photo` keeps the committed photograph textures, `--render-photo` renders
+the still life again).
 Scene pieces shared with `python -m inkbsdf.print` live in `inkbsdf/pagescene.py`.
 """
 
@@ -194,15 +195,20 @@ def make_text_texture(page: Page, path: Path) -> None:
     mi.Bitmap(np.ascontiguousarray(gray), mi.Bitmap.PixelFormat.Y).write(str(path))
 
 
-def make_photo_textures(page: Page) -> None:
-    """Render the still life, separate and halftone it (solver.separation), write the textures."""
+def make_photo_textures(page: Page, render: bool) -> None:
+    """Separate and halftone the photograph (solver.separation), write the textures; `render`
+    (or no photograph yet): render the still life first (LLVM's multithreaded film sums are
+    not bit-reproducible, so the committed photograph is kept otherwise)."""
     from still_life import render_still_life
 
-    from solver.separation import PrintSettings, parse_dots, print_image, printed_inks, write_rgb_png
+    from solver.separation import (PrintSettings, parse_dots, print_image, printed_inks, read_srgb8,
+                                   write_rgb_png)
 
     photo = page.photo
-    rgb8 = render_still_life(*PHOTO_SIZE_PX)
-    write_rgb_png(HERE / "textures" / f"{page.name}_photo.png", rgb8)
+    source = HERE / "textures" / f"{page.name}_photo.png"
+    if render or not source.is_file():
+        write_rgb_png(source, render_still_life(*PHOTO_SIZE_PX))
+    rgb8 = read_srgb8(source)
     settings = PrintSettings(inks=photo.inks, dots=parse_dots(photo.dots), size_cm=photo_size_cm(photo))
     result = print_image(rgb8, settings, printed_inks(photo.inks))
     for line in result.separation.report.lines():
@@ -275,7 +281,7 @@ def main(argv=None) -> None:
     for page in PAGES:
         make_text_texture(page, HERE / "textures" / f"{page.name}_text.png")
         if page.photo is not None and "--no-photo" not in args:
-            make_photo_textures(page)
+            make_photo_textures(page, render="--render-photo" in args)
         (HERE / f"{page.name}.xml").write_text(scene_xml(page))
         print(f"wrote {HERE / (page.name + '.xml')} and textures/{page.name}_*")
 
