@@ -153,3 +153,41 @@ def test_demo_photograph_textures_match_the_layout():
         assert tex.shape == grid.shape and set(np.unique(tex)) <= {0, 255}, name
     source = np.asarray(Image.open(ROOT / "scenes" / "textures" / "printed_page_photo.png"))
     assert source.shape == (ma.PHOTO_SIZE_PX[1], ma.PHOTO_SIZE_PX[0], 3)
+
+
+def test_bsdf_over_binary_dots_shows_murray_davies(use_variant, tmp_path):
+    """The `ink` BSDF averaged over AM dot textures of coverages c̄ equals the NumPy model's
+    Murray–Davies BRDF at c̄ (to the 1 % the dot areas match Demichel's), not Clapper–Yule's:
+    the reason `auto` separates binary dots with murray-davies."""
+    import drjit as dr
+    from conftest import surface_interaction
+
+    from solver.printing import brdf_smooth
+    from solver.separation import TexelGrid, halftone_ink, parse_dots, printed_inks, write_grey_png
+
+    mi = use_variant("llvm_ad_spectral")
+    cov = (0.35, 0.5, 0.25)
+    d = parse_dots("AM:25")
+    grid = TexelGrid.for_print((2.0, 2.0), (4, 4), d)
+    bsdf = {"type": "ink", "paper": 0.9}
+    for i, (ink, c, angle) in enumerate(zip(("R30", "Y30", "B30"), cov, (75.0, 0.0, 15.0)), start=1):
+        path = write_grey_png(tmp_path / f"{ink}.png", halftone_ink(np.full((4, 4), c), grid, d, angle, i))
+        bsdf[f"ink{i}"] = ink
+        bsdf[f"coverage{i}"] = {"type": "bitmap", "filename": str(path), "raw": True, "filter_type": "nearest"}
+    bsdf = mi.load_dict(bsdf)
+    n = 1 << 17
+    lam = np.array([450.0, 530.0, 600.0, 650.0])
+    theta = np.radians(30.0)
+    si = surface_interaction(mi, np.tile([[0.0], [0.0], [1.0]], (1, n)), np.tile(lam[:, None], (1, n)))
+    rng = np.random.default_rng(4)
+    si.uv = mi.Point2f(*[mi.Float(a) for a in rng.random((2, n))])
+    wo = mi.Vector3f(float(np.sin(theta)), 0.0, float(np.cos(theta)))
+    value = bsdf.eval(mi.BSDFContext(), si, wo)
+    dr.eval(value)
+    mean = np.asarray(value).reshape(4, n).mean(axis=1) / np.cos(theta)       # f, 1/sr
+    printed = printed_inks(("R30", "Y30", "B30"))
+    args = (printed, cov, 0.9, 0.0, theta, 0.0)
+    md = brdf_smooth(*args, coverage_model="murray-davies", wavelengths_nm=lam)
+    cy = brdf_smooth(*args, coverage_model="clapper-yule", wavelengths_nm=lam)
+    np.testing.assert_allclose(mean, md, rtol=0.02)
+    assert np.all(np.abs(mean / cy - 1.0) > 0.05), (mean, md, cy)
