@@ -10,7 +10,8 @@ import importlib
 import sys
 import time
 
-STUDIES = ("geometry", "wave", "render", "tables", "findings", "polarisation", "printing", "separation")
+STUDIES = ("geometry", "wave", "render", "tables", "findings", "polarisation", "printing", "figures",
+           "separation")
 
 
 def main(argv: list[str]) -> int:
