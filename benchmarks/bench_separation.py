@@ -130,6 +130,25 @@ def halftoning() -> None:
         n = grid.shape[0] * grid.shape[1]
         print(f"  {d.label():14s} {grid.shape[1]}×{grid.shape[0]} texels ({grid.dpi:.0f} dpi): {dt:5.2f} s, "
               f"{n / dt / 1e6:5.1f} Mtexel/s, mean coverage error {texture_mean(tex) - target:+.1e}")
+    aligned_screen()
+
+
+def aligned_screen() -> None:
+    """A 0° screen of 8 × 8-texel cells: spot-area thresholds (equal between symmetric texels)
+    against the cell's ranks (what am_threshold uses)."""
+    from solver.separation import am_threshold
+    from solver.separation.screens import spot_area
+
+    n, lpi = 8, 25.0
+    f = (np.arange(256) + 0.5) / n
+    fu = f - np.floor(f) - 0.5
+    spot = 0.5 * (np.cos(2 * np.pi * fu)[None, :] + np.cos(2 * np.pi * fu)[:, None])
+    naive = spot_area(spot)
+    ranked = am_threshold(slice(0, 256), 256, 1.0 / (n * lpi), lpi, 0.0)
+    cs = np.linspace(0.01, 0.99, 99)
+    err = lambda t: np.abs([np.mean(t < c) - c for c in cs])          # noqa: E731
+    print(f"  0° screen, 8×8 texels per cell, coverages 0.01…0.99: max |mean − c| spot-area thresholds "
+          f"{err(naive).max():.3f} (c = 0.3 inks {np.mean(naive < 0.3):.3f}), ranked thresholds {err(ranked).max():.4f}")
 
 
 def _render_once(scene: Path, tables: Path) -> tuple[float, float, float]:
