@@ -8,7 +8,8 @@ printed page.
 writes page.xml and, next to it, page_textures/ (one 8-bit coverage PNG per ink, white = full
 ink; the sky; proof.png, the model's colours of the print as sRGB). Render it with
 `python -m inkbsdf.render page.xml --spp 64 -o page.exr --png page.png`. The method:
-docs/printing.md. Bad input: one line on stderr, exit status 2, before any work.
+docs/printing.md. Bad input: one line on stderr, exit status 2, before any work; Ctrl-C: exit
+status 130.
 """
 
 from __future__ import annotations
@@ -108,8 +109,8 @@ def scene_xml(result, texture_folder: str, texture_files) -> str:
     # binary dots: each texel is 0 or 1 (nearest filtering), where both coverage models agree
     body += print_shape_xml(stage, (sheet[0] / 2, sheet[1] / 2), (w, h), sources, files, s.dots.binary,
                             None if s.dots.binary else s.model, comment=what)
-    comment = (f"A printed image: written by python -m inkbsdf.print.\n     Inks named in the scene (built "
-               f"through the table cache). Parameters: width, height, spp, paper (albedo). Units: cm.")
+    comment = ("A printed image: written by python -m inkbsdf.print.\n     Inks named in the scene (built "
+               "through the table cache). Parameters: width, height, spp, paper (albedo). Units: cm.")
     return scene_document(comment, body, defaults={"paper": f"{s.paper:g}"})
 
 
@@ -122,21 +123,19 @@ def _sheet_transform(stage) -> str:
 
 def main(argv=None) -> int:
     """The command; returns the exit status (2: bad input, told in one line on stderr)."""
-    from solver.separation import DotsError, ImageError
-
     with warnings.catch_warnings():
         warnings.showwarning = lambda message, *a, **k: print(f"warning: {message}", file=sys.stderr)
         try:
             return _main(argv)
-        except (UsageError, ImageError, DotsError) as exc:
-            print(f"error: {exc}", file=sys.stderr)
-            return 2
-        except ValueError as exc:                       # a table request or build refused
+        except ValueError as exc:      # UsageError, ImageError, DotsError, a refused table request
             print(f"error: {exc}", file=sys.stderr)
             return 2
         except OSError as exc:
             print(f"error: {exc.filename or ''}: {exc.strerror or exc}", file=sys.stderr)
             return 2
+        except KeyboardInterrupt:
+            print("\ninterrupted (Ctrl-C): stopped", file=sys.stderr)
+            return 130
 
 
 def _main(argv) -> int:
@@ -159,7 +158,7 @@ def _main(argv) -> int:
           f"with {', '.join(settings.inks)}, {settings.dots.label()} ({grid.shape[1]}×{grid.shape[0]} texels, "
           f"{grid.dpi:.0f} dpi), {settings.model}", flush=True)
     printed = printed_inks(settings.inks)
-    bar = _progress_bar(args.quiet)
+    bar = ColourProgress(args.quiet)
     try:
         result = print_image(rgb8, settings, printed, progress=bar, grid=grid)
     finally:
@@ -177,7 +176,7 @@ def _main(argv) -> int:
     return 0
 
 
-class _progress_bar:
+class ColourProgress:
     """tqdm over the distinct colours (created when their number is known)."""
 
     def __init__(self, quiet: bool):

@@ -31,7 +31,7 @@ import numpy as np
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))             # run as a script: the repository's packages
-from inkbsdf.pagescene import (A4_CM, CAMERA_EYE_CM, SOFTBOX_HEIGHT_CM, PATCH_LIFT_CM,  # noqa: E402
+from inkbsdf.pagescene import (A4_CM, CAMERA_EYE_CM, SOFTBOX_HEIGHT_CM, PATCH_LIFT_CM,  # noqa: E402,F401
                                Stage, bitmap_xml, ink_bsdf_xml, print_shape_xml, rect_transform,
                                scene_document, stage_xml, write_sky)
 
