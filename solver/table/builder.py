@@ -129,9 +129,6 @@ def build_table(request: TableRequest, opts: BuildOptions | None = None) -> InkT
     if request.molecular:
         return _film_table(request, "thin-film", "homogeneous layer: exact Airy (transfer-matrix) solution",
                            timer)
-    if request.polarisation != "te":
-        raise RequestError(f"--polarisation {request.polarisation}: particle inks are solved for TE light only "
-                           "so far; use --polarisation te")
     from .wave_ensemble import reduce_units
     from .wave_tier import realization_seed
 

@@ -39,7 +39,7 @@ class RequestError(ValueError):
 
 # ---------------------------------------------------------------------------- the defaults
 DEFAULT_THICKNESS_NM = 1000.0
-DEFAULT_POLARISATION = "te"
+DEFAULT_POLARISATION = "unpolarised"
 #: "Y15/B15": Y15 printed over B15 (layers top first)
 LAYER_SEPARATOR = "/"
 #: molecular inks (exact thin film, cheap): 10-nm steps and 46 uniform incidence angles
@@ -61,7 +61,7 @@ class WaveSettings:
     grid: tuple[int, int, int] = (64, 64, 32)  # voxels (x, y, z)
     realizations: int = 4                      # random cells per wavelength
     azimuths: int = 2                          # incidence azimuths per realization
-    solver_tol: float = 1e-4                   # wave solver relative residual
+    solver_tol: float = 1e-3                   # wave solver relative residual (docs/wave_solver.md)
     tolerance: float = 0.01                    # tier choice: allowed error in Rbar, Tbar, diffuse
     seed: int = 1
     tier: str = "auto"
@@ -70,7 +70,7 @@ class WaveSettings:
 #: accuracy presets of particle inks (wave settings and wavelength step); docs/tables.md has
 #: each preset's measured colour error against `fine` and its cost
 ACCURACY = {
-    "preview": (WaveSettings(grid=(48, 48, 24), realizations=2, azimuths=1, solver_tol=1e-3), 40.0),
+    "preview": (WaveSettings(grid=(48, 48, 24), realizations=2), 40.0),
     "default": (WaveSettings(), PARTICLE_WAVELENGTH_STEP_NM),
     "fine": (WaveSettings(grid=(96, 96, 48), realizations=8), 10.0),
 }
