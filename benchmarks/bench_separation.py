@@ -8,8 +8,7 @@
    printable mixes (max ΔE76, targets left unmatched, max coverage error where the map is well
    conditioned) and on 3000 colours of the photograph (how much farther than a brute-force
    search of a 65³ coverage grid the solver's colour is);
-3. the print model's throughput (mixes per second) and the matrix-product layout inside
-   solver.printing.model.mix (w @ f against (fᵀ @ wᵀ)ᵀ, same numbers);
+3. the print model's throughput (mixes per second);
 4. halftoning: texels per second (AM, FM), mean-coverage error;
 5. the demo render (640×512, 32 spp) with and without the photograph, processes alternating:
    medians of render wall time and of the process's CPU time.
@@ -106,13 +105,6 @@ def throughput(printed) -> None:
         model.lab(c[:10])
         _, dt = _timed(lambda: model.lab(c), repeats=3)
         print(f"  {model_name:14s} coverages → CIELAB: {n / dt / 1e3:6.0f} k mixes/s")
-    w = np.random.default_rng(2).random((n, 8))
-    f = np.random.default_rng(3).random((8, 4 * 41))
-    a, t_a = _timed(lambda: w @ f, repeats=3)
-    b, t_b = _timed(lambda: (f.T @ w.T).T, repeats=3)
-    assert np.allclose(a, b)
-    print(f"  solver.printing.model.mix's product [{n}×8]·[8×164]: w @ f {t_a * 1e3:.0f} ms, "
-          f"(fᵀ @ wᵀ)ᵀ {t_b * 1e3:.0f} ms ({t_a / t_b:.1f}× faster, same values)")
 
 
 def halftoning() -> None:
