@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 import solver.figures.cells as cells_mod
+from oracles import airy_slab
 from solver.cli import main
 from solver.figures.cells import FigureSettings, across_particles, build_cells, plan_cells
 from solver.figures.draw import RULE_GREY
@@ -181,12 +182,9 @@ def test_across_cylinders_use_the_smallest_reaching_tilt(tmp_path, monkeypatch):
 
 
 def film_transmittance(ink: str, wl_nm: np.ndarray, thickness_nm: float = 1000.0) -> np.ndarray:
-    """Airy transmittance of an absorbing slab in air at normal incidence (independent oracle)."""
+    """Airy transmittance of an absorbing slab in air at normal incidence (oracles.airy_slab)."""
     n = np.sqrt(molecular_eps(parse_ink(ink), wl_nm))
-    r01, r12 = (1 - n) / (1 + n), (n - 1) / (n + 1)
-    t01, t12 = 2 / (1 + n), 2 * n / (n + 1)
-    phase = np.exp(1j * 2 * np.pi / wl_nm * n * thickness_nm)
-    return np.abs(t01 * t12 * phase / (1 + r01 * r12 * phase ** 2)) ** 2
+    return airy_slab(1.0, n, 1.0, thickness_nm, wl_nm, 0.0)[3]
 
 
 def test_fig9_molecular_curves_are_the_film_transmittance(tmp_path):

@@ -4,9 +4,10 @@ both coverage models, weights = eval/pdf, delta-lobe probability from the NumPy 
 import numpy as np
 import pytest
 
+from bsdf_probes import as_numpy, chi2_adapter, draw
 from printing_tables import StackProvider, load, reference, write_print_tables
 from solver.printing import directional_albedo, specular_reflectance
-from test_bsdf_sampling import _draw, chi2_adapter
+
 
 @pytest.fixture(scope="module")
 def tables(tmp_path_factory):
@@ -54,17 +55,15 @@ def test_chi2_three_inks(use_variant, tables, model, deg, wavelengths, cov):
 def test_sample_weights_three_inks(use_variant, tables, model):
     """Smooth samples: weight = eval/pdf, bs.pdf = pdf(); delta samples: the mirror direction."""
     mi = use_variant("llvm_ad_spectral")
-    import drjit as dr
-
     from inkbsdf.inks import stack_provider
 
     with stack_provider(StackProvider()):
         bsdf = load(mi, (tables["Y30"], tables["diffuse"], tables["B30"]), [0.6, 0.5, 0.4], model)
-    si, bs, weight, lam, wi = _draw(mi, bsdf, 55.0, 1 << 14, seed=12)
+    si, bs, weight, lam, wi = draw(mi, bsdf, 55.0, 1 << 14, seed=12)
     delta = np.asarray(mi.has_flag(bs.sampled_type, mi.BSDFFlags.Delta))
     assert 0.005 < delta.mean() < 0.9
     value, pdf = bsdf.eval_pdf(mi.BSDFContext(), si, bs.wo)
-    value = np.array([np.asarray(value[j]) for j in range(dr.size_v(mi.Spectrum))])
+    value = as_numpy(mi, value)
     pdf, d = np.asarray(pdf), ~delta
     np.testing.assert_allclose(np.asarray(bs.pdf)[d], pdf[d], rtol=1e-5)
     np.testing.assert_allclose(weight[:, d], value[:, d] / pdf[d], rtol=1e-4, atol=1e-7)

@@ -7,8 +7,8 @@ import warnings
 
 import numpy as np
 import pytest
-from scipy.optimize import brentq
 
+from oracles import te0_propagation_constant
 from solver.wave import (BornDivergenceError, Cell, ConvergenceError, ConvergenceWarning,
                          Incidence, solve)
 from solver.wave.oracles import random_spheres, sphere_fractions
@@ -48,14 +48,6 @@ def test_exact_wood_anomaly(from_below, k):
         assert abs(near.R - res.R) < 1e-4 and abs(near.T - res.T) < 1e-4
 
 
-def _te0_constant(k0, eps_film, thickness):
-    """Propagation constant of the TE0 mode of a symmetric film in air (independent oracle)."""
-    def phase(beta):
-        kap, gam = math.sqrt(k0 ** 2 * eps_film - beta ** 2), math.sqrt(beta ** 2 - k0 ** 2)
-        return 2 * kap * thickness - 4 * math.atan(gam / kap)
-    return brentq(phase, k0 * 1.000001, k0 * math.sqrt(eps_film) * 0.999999)
-
-
 def _film_grating(period, thickness, fill, offset, nx=32, nz=16):
     x = np.arange(nx) / nx
     a, b = offset - fill / 2, offset + fill / 2
@@ -72,7 +64,7 @@ def test_harmonic_on_the_guided_mode_pole_of_the_lossless_background():
     lam, thick, fill = 600.0, 500.0, 0.05
     k0 = 2 * math.pi / lam
     eps_mean = (1 - fill) * E_BINDER + fill * 1.4 ** 2
-    period = 2 * math.pi / _te0_constant(k0, eps_mean, thick)
+    period = 2 * math.pi / te0_propagation_constant(k0, eps_mean, thick)
     cell = _film_grating(period, thick, fill, 0.5)
     assert np.mean(cell.eps) == pytest.approx(eps_mean, rel=1e-12)
     res = solve(cell, Incidence(lam, 0.0), tol=1e-6, dtype=np.complex128)
@@ -85,7 +77,7 @@ def test_guided_mode_resonance_scan():
     feature in R, finite everywhere, energy conserved at every point including the peak."""
     thick, fill = 500.0, 0.05
     k0 = 2 * math.pi / 600.0
-    period = 2 * math.pi / _te0_constant(k0, E_BINDER, thick)
+    period = 2 * math.pi / te0_propagation_constant(k0, E_BINDER, thick)
     cell = _film_grating(period, thick, fill, 0.3)
     lams = np.linspace(594.0, 602.0, 81)
     big_r = []

@@ -1,6 +1,7 @@
 """TM polarisation at the layer's faces: u and ∂_z u/ε continuous (u = H_y), against the exact
-TM Airy formula written here; TM energy closure with real and complex ε_f; reciprocity;
-Brewster; hard cases.  The interior stays scalar (docs/wave_solver.md, "TM polarisation")."""
+TM Airy formula (oracles.airy_slab; the slab cases of both polarisations are in
+test_wave_slab.py); TM energy closure with real and complex ε_f; reciprocity; Brewster; hard
+cases.  The interior stays scalar (docs/wave_solver.md, "TM polarisation")."""
 from __future__ import annotations
 
 import math
@@ -9,6 +10,7 @@ import warnings
 import numpy as np
 import pytest
 
+from conftest import slab_against_airy
 from solver.wave import Cell, Incidence, bloch_vector, prepare, solve, solve_prepared
 from solver.wave.oracles import random_spheres, sphere_fractions
 from solver.wave.validation import random_layer
@@ -17,87 +19,14 @@ LAM = 500.0
 E_BINDER = 1.558 ** 2
 
 
-def _kz(k0sq_eps, kt):
-    kz = np.sqrt(k0sq_eps - kt ** 2 + 0j)
-    return -kz if kz.imag < 0 else kz
-
-
-def airy_tm(n_in, n_slab, n_out, d_nm, lam_nm, sigma):
-    """(r, t, R, T) of the magnetic field H_y for a slab between n_in (incidence side) and
-    n_out: interface coefficients r_ij = (k_i/ε_i − k_j/ε_j)/(k_i/ε_i + k_j/ε_j),
-    t_ij = 1 + r_ij; T = (ε_in/ε_out)(k_out/k_in)|t|² (flux ∝ Re(k_z/ε)|H|²)."""
-    k0 = 2 * math.pi / lam_nm
-    kt = k0 * np.real(n_in) * math.sin(sigma)
-    eps = [complex(n) ** 2 for n in (n_in, n_slab, n_out)]
-    k = [_kz(k0 ** 2 * e, kt) for e in eps]
-    y = [kk / e for kk, e in zip(k, eps)]
-    r12, r23 = (y[0] - y[1]) / (y[0] + y[1]), (y[1] - y[2]) / (y[1] + y[2])
-    e = np.exp(1j * k[1] * d_nm)
-    den = 1 + r12 * r23 * e * e
-    r, t = (r12 + r23 * e * e) / den, (1 + r12) * (1 + r23) * e / den
-    big_t = (eps[0].real / eps[2].real) * (k[2].real / k[0].real) * abs(t) ** 2 \
-        if k[2].imag == 0 else 0.0
-    return complex(r), complex(t), float(abs(r) ** 2), float(big_t)
-
-
-def test_tm_airy_oracle_limits():
-    """Self-checks: lossless energy, TE = TM at normal incidence up to the sign convention
-    (r_TM(0) = −r_TE(0) for H), Brewster zero of a single interface."""
-    r, t, big_r, big_t = airy_tm(1.0, 1.558, 1.0, 700.0, LAM, 0.7)
-    assert big_r + big_t == pytest.approx(1.0, abs=1e-12)
-    r0, _, R0, T0 = airy_tm(1.0, 1.558, 1.0, 700.0, LAM, 0.0)
-    k0 = 2 * math.pi / LAM
-    k1, k2 = k0, k0 * 1.558
-    r_te = (k1 - k2) / (k1 + k2)
-    e2 = np.exp(2j * k2 * 700.0)
-    assert R0 == pytest.approx(abs((r_te - r_te * e2) / (1 - r_te ** 2 * e2)) ** 2, rel=1e-12)
-    rb, _, _, _ = airy_tm(1.0, 1.558, 1.558, 700.0, LAM, math.atan(1.558))
-    assert abs(rb) < 1e-14
-
-
-def _check(cell, inc, n_in, eta, n_out, thickness, tol=1e-4, **kw):
-    res = solve(cell, inc, tol=1e-8, polarisation="tm", exact_energy=True, **kw)
-    r, t, big_r, big_t = airy_tm(n_in, eta, n_out, thickness, inc.wavelength_nm, inc.polar_rad)
-    errs = (abs(res.reflected.amp(0, 0) - r), abs(res.transmitted.amp(0, 0) - t),
-            abs(res.R - big_r), abs(res.T - big_t))
-    assert max(errs) <= tol, errs
-    assert res.converged and res.energy_check == "quadrature" and abs(res.energy_error) < 1e-6
-    assert res.polarisation == "tm"
-    return res
-
-
-@pytest.mark.parametrize("eta", [1.558, 1.4 + 0.2j, 1.4 + 1.1j])
-@pytest.mark.parametrize("thickness,nz", [(1000.0, 32), (50.0, 4)])
-@pytest.mark.parametrize("sigma_deg", [0.0, 60.0, 85.0])
-@pytest.mark.parametrize("from_below", [False, True])
-def test_tm_slab_is_airy(eta, thickness, nz, sigma_deg, from_below):
-    """Default ε_f = the slab's ε (complex for the absorbing slabs); the quadrature energy
-    identity includes the face term of a complex ε_f."""
-    cell = Cell(np.full((2, 2, nz), eta ** 2), (300.0, 300.0), (0.0, thickness))
-    inc = Incidence(LAM, math.radians(sigma_deg), 0.3, from_below=from_below)
-    res = _check(cell, inc, 1.0, eta, 1.0, thickness)
-    assert np.all(np.abs(res.reflected.amplitude[1:]) < 1e-6)
-
-
 @pytest.mark.parametrize("eta,eps_b", [(1.558, 2.275 + 0.168j), (1.4 + 0.2j, 1.558 ** 2)])
 @pytest.mark.parametrize("sigma_deg", [17.0, 85.0])
 def test_tm_slab_as_contrast_to_a_different_background(eta, eps_b, sigma_deg):
     """The slab carried by the contrast, the faces given the slab's own ε_f."""
     cell = Cell(np.full((2, 2, 64), eta ** 2), (300.0, 300.0), (0.0, 1000.0))
-    res = _check(cell, Incidence(LAM, math.radians(sigma_deg)), 1.0, eta, 1.0, 1000.0,
-                 eps_background=eps_b, eps_face=eta ** 2)
+    res = slab_against_airy(cell, Incidence(LAM, math.radians(sigma_deg)), 1.0, eta, 1.0, 1000.0, "tm",
+                            eps_background=eps_b, eps_face=eta ** 2)
     assert res.applications > 3
-
-
-@pytest.mark.parametrize("from_below", [False, True])
-def test_tm_unequal_half_spaces(from_below):
-    """T carries ε_in/ε_out; R + T = 1 for the lossless film only with it."""
-    n_above, n_below = 1.0, 1.33
-    cell = Cell(np.full((1, 1, 32), 1.558 ** 2), (300.0, 300.0), (0.0, 1000.0),
-                eps_above=n_above ** 2, eps_below=n_below ** 2)
-    n_in, n_out = (n_below, n_above) if from_below else (n_above, n_below)
-    res = _check(cell, Incidence(LAM, 0.5, from_below=from_below), n_in, 1.558, n_out, 1000.0)
-    assert res.R + res.T == pytest.approx(1.0, abs=1e-4)
 
 
 def test_brewster_angle_of_a_clear_binder_film():
