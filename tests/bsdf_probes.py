@@ -117,6 +117,33 @@ def draw(mi, bsdf, deg, n, seed, ctx=None):
     return si, bs, as_numpy(mi, w), lam, wi
 
 
+class Draw(NamedTuple):
+    """Samples of `sample_consistency`, as NumPy."""
+    weight: np.ndarray         # [4, n]
+    lam: np.ndarray            # [4, n] nm
+    wi: np.ndarray             # [3, n]
+    wo: np.ndarray             # [3, n]
+    delta: np.ndarray          # [n] bool: the delta lobe was sampled
+    pdf: np.ndarray            # eval_pdf's pdf at wo
+    sample_pdf: np.ndarray     # bs.pdf
+
+
+def sample_consistency(mi, bsdf, deg, n, seed) -> Draw:
+    """`draw` n samples and assert what holds for every sample: a smooth one has bs.pdf = pdf()
+    = eval_pdf's pdf and weight = eval/pdf; a delta one the mirror direction."""
+    si, bs, weight, lam, wi = draw(mi, bsdf, deg, n, seed)
+    delta = np.asarray(mi.has_flag(bs.sampled_type, mi.BSDFFlags.Delta))
+    value, pdf = bsdf.eval_pdf(mi.BSDFContext(), si, bs.wo)
+    value, pdf, bs_pdf = as_numpy(mi, value), np.asarray(pdf), np.asarray(bs.pdf)
+    d = ~delta
+    np.testing.assert_allclose(bs_pdf[d], pdf[d], rtol=1e-5)
+    np.testing.assert_allclose(weight[:, d], value[:, d] / pdf[d], rtol=1e-4, atol=1e-7)
+    np.testing.assert_allclose(np.asarray(bsdf.pdf(mi.BSDFContext(), si, bs.wo))[d], pdf[d], rtol=1e-6)
+    wo = np.array([np.asarray(bs.wo[k]) for k in range(3)])
+    np.testing.assert_allclose(wo[:, delta], (wi * [[-1], [-1], [1]])[:, delta], atol=1e-6)
+    return Draw(weight, lam, wi, wo, delta, pdf, bs_pdf)
+
+
 def delta_sample(mi, bsdf, wi, lam, mode=None):
     """(weight, wo, pdf) of the delta lobe alone (sampled with probability 1: the weight is
     c·R_spec, or its Mueller matrix)."""

@@ -8,6 +8,7 @@ printing tables in printing_tables.py."""
 from __future__ import annotations
 
 import importlib.util
+import math
 import sys
 from pathlib import Path
 
@@ -44,6 +45,17 @@ def ink_tables(tmp_path_factory):
     from inkbsdf.demo_tables import build_tables
 
     return build_tables(tmp_path_factory.mktemp("tables"))
+
+
+@pytest.fixture()
+def single_blas_thread():
+    """NumPy's BLAS on one thread for the test (solver.wave.vecops.one_blas_thread): the RCWA
+    oracle's dense 121×121 eigenproblems took ~4 s each on a threaded OpenBLAS on a busy
+    2-core machine, ~0.05 s on one thread."""
+    from solver.wave.vecops import one_blas_thread
+
+    with one_blas_thread():
+        yield
 
 
 @pytest.fixture()
@@ -108,6 +120,17 @@ def diffuse_tables(tmp_path_factory):
             for name in ("lossless", "absorbing")}
 
 
+def run_main(main, argv, capsys):
+    """A command's main(argv) in this process: (exit status, stdout, stderr); argparse's
+    SystemExit counts as its exit status."""
+    try:
+        status = main([str(a) for a in argv])
+    except SystemExit as exc:
+        status = exc.code
+    out, err = capsys.readouterr()
+    return status, out, err
+
+
 def process_group(pgid: int) -> list[str]:
     """Command lines of the live (non-zombie) processes in a process group (Linux /proc)."""
     found = []
@@ -157,6 +180,38 @@ def slab_against_airy(cell, inc, n_in, eta, n_out, thickness, polarisation="te",
     assert res.converged and res.energy_check == "quadrature" and abs(res.energy_error) < 1e-6
     assert res.polarisation == polarisation
     return res
+
+
+def reciprocal_order_pairs(cell, lam_nm, polarisation="te", sigma=0.3, phi=0.4,
+                           orders=((1, 0), (-1, 1), (0, -1))):
+    """Reciprocal pairs of diffraction orders of a cell: for each order (m, n), reflected (R)
+    and transmitted (T) under incidence (σ, φ) from above (a → b), the solve from that order's
+    reversed direction (b̄ → ā: from above for R, from below for T) and its order (m, n), which
+    must point back along the first incidence. Returns [((m, n, side), amp(a → b)/k_z,a,
+    amp(b̄ → ā)/k_z,b, ε_a, ε_b)]."""
+    from solver.wave import Incidence, solve
+
+    k0 = 2 * math.pi / lam_nm
+    eps_above, eps_below = complex(cell.eps_above).real, complex(cell.eps_below).real
+    res_a = solve(cell, Incidence(lam_nm, sigma, phi), tol=1e-8, polarisation=polarisation)
+    kz_a = k0 * math.sqrt(eps_above) * math.cos(sigma)
+    pairs = []
+    for (m, n) in orders:
+        for side in ("R", "T"):
+            out = res_a.reflected if side == "R" else res_a.transmitted
+            i = out.index(m, n)
+            assert out.propagating[i]
+            kx, ky, kz_b = out.kx[i], out.ky[i], out.kz[i].real
+            eps_b = eps_above if side == "R" else eps_below
+            back = Incidence(lam_nm, math.asin(math.hypot(kx, ky) / (k0 * math.sqrt(eps_b))),
+                             math.atan2(ky, kx) + math.pi, from_below=(side == "T"))
+            res_b = solve(cell, back, tol=1e-8, polarisation=polarisation)
+            other = res_b.reflected if side == "R" else res_b.transmitted
+            j = other.index(m, n)
+            assert abs(other.kx[j] + res_a.kx0) < 1e-12 and abs(other.ky[j] + res_a.ky0) < 1e-12
+            pairs.append(((m, n, side), out.amplitude[i] / kz_a, other.amplitude[j] / kz_b,
+                          eps_above, eps_b))
+    return pairs
 
 
 def scene_script(name: str):

@@ -4,7 +4,7 @@ the delta lobe's weight and probability, and the context's lobe selection."""
 import numpy as np
 import pytest
 
-from bsdf_probes import as_numpy, chi2_adapter, draw, ink_bsdf, surface_interaction, vector
+from bsdf_probes import as_numpy, chi2_adapter, draw, ink_bsdf, sample_consistency, surface_interaction, vector
 from oracles import CY, MD, reference_delta
 from solver.table import read_table
 
@@ -50,22 +50,13 @@ def test_sample_weights(use_variant, ink_tables, diffuse_tables, ink, deg, model
     path = {**ink_tables, **diffuse_tables}[ink]
     paper, coverage = 0.85, 0.8
     bsdf = ink_bsdf(mi, path, paper, coverage, model)
-    si, bs, weight, lam, wi = draw(mi, bsdf, deg, 1 << 14, seed=11)
-    delta = np.asarray(mi.has_flag(bs.sampled_type, mi.BSDFFlags.Delta))
+    got = sample_consistency(mi, bsdf, deg, 1 << 14, seed=11)
+    delta, d = got.delta, ~got.delta
     assert 0.01 < delta.mean() < 0.9
-    value, pdf = bsdf.eval_pdf(mi.BSDFContext(), si, bs.wo)
-    value = as_numpy(mi, value)
-    pdf, bs_pdf = np.asarray(pdf), np.asarray(bs.pdf)
-    d = ~delta
-    np.testing.assert_allclose(bs_pdf[d], pdf[d], rtol=1e-5)
-    np.testing.assert_allclose(weight[:, d], value[:, d] / pdf[d], rtol=1e-4, atol=1e-7)
-    np.testing.assert_allclose(np.asarray(bsdf.pdf(mi.BSDFContext(), si, bs.wo))[d], pdf[d], rtol=1e-6)
-    wo = np.array([np.asarray(bs.wo[k]) for k in range(3)])
-    np.testing.assert_allclose(wo[:, delta], (wi * [[-1], [-1], [1]])[:, delta], atol=1e-6)
-    p_spec, w_spec = reference_delta(read_table(path), lam, deg, paper, coverage, model)
-    np.testing.assert_allclose(bs_pdf[delta], p_spec[delta], rtol=2e-4)
-    np.testing.assert_allclose(weight[:, delta], w_spec[:, delta], rtol=5e-4)
-    np.testing.assert_allclose(pdf[d], (1 - p_spec[d]) * wo[2, d] / np.pi, rtol=3e-4)
+    p_spec, w_spec = reference_delta(read_table(path), got.lam, deg, paper, coverage, model)
+    np.testing.assert_allclose(got.sample_pdf[delta], p_spec[delta], rtol=2e-4)
+    np.testing.assert_allclose(got.weight[:, delta], w_spec[:, delta], rtol=5e-4)
+    np.testing.assert_allclose(got.pdf[d], (1 - p_spec[d]) * got.wo[2, d] / np.pi, rtol=3e-4)
 
 
 def test_context_selects_lobes(use_variant, ink_tables):

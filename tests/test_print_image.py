@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from bsdf_probes import surface_interaction
-from conftest import ROOT, scene_script
+from conftest import ROOT, run_main, scene_script
 from inkbsdf.print import main
 
 
@@ -30,9 +30,7 @@ def tiny_image(tmp_path_factory):
 
 
 def run(args, capsys):
-    status = main([str(a) for a in args])
-    out, err = capsys.readouterr()
-    return status, out, err
+    return run_main(main, args, capsys)
 
 
 @pytest.mark.parametrize("dots", ["AM:60", "FM", "none"])
@@ -60,6 +58,7 @@ def test_prints_textures_and_scene(tiny_image, tmp_path, capsys, dots):
     assert "distinct colours" in out and "wrote" in out
 
 
+@pytest.mark.render
 def test_printed_page_renders(tiny_image, tmp_path, capsys):
     """The scene of a printed image renders (few spp) to a finite image."""
     from inkbsdf.imageio import read_exr

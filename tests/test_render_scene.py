@@ -7,6 +7,7 @@ import pytest
 
 from inkbsdf.demo_tables import DEMO_INKS
 
+pytestmark = pytest.mark.render
 SCENE = str(Path(__file__).resolve().parents[1] / "scenes" / "printed_page.xml")
 WIDTH, HEIGHT, SPP = 240, 192, 32
 ERODE_PX = 2

@@ -24,9 +24,10 @@ def _finite(res):
         math.isfinite(v) for v in (res.R, res.T, res.absorbed, res.residual))
 
 
+@pytest.mark.parametrize("pol", ["te", "tm"])
 @pytest.mark.parametrize("from_below", [False, True])
 @pytest.mark.parametrize("k", [0.0, 0.2])
-def test_exact_wood_anomaly(from_below, k):
+def test_exact_wood_anomaly(from_below, k, pol):
     """λ = 600 nm, period 800 nm, sin σ = 1 − λ/L: order (1, 0) grazes, k_z = 0 exactly."""
     period, lam = 800.0, 600.0
     rng = np.random.default_rng(3)
@@ -34,7 +35,8 @@ def test_exact_wood_anomaly(from_below, k):
     frac = sphere_fractions(centres, 75.0, (period, period), (0.0, 400.0), (24, 24, 12))
     cell = Cell(E_BINDER + ((1.4 + 1j * k) ** 2 - E_BINDER) * frac, (period, period), (0.0, 400.0))
     sigma = math.asin(1 - lam / period)
-    res = solve(cell, Incidence(lam, sigma, from_below=from_below), tol=1e-6, exact_energy=True)
+    res = solve(cell, Incidence(lam, sigma, from_below=from_below), tol=1e-6, polarisation=pol,
+                exact_energy=True)
     for orders in (res.reflected, res.transmitted):
         i = orders.index(1, 0)
         assert orders.kz[i] == 0 and orders.power[i] == 0
@@ -44,7 +46,7 @@ def test_exact_wood_anomaly(from_below, k):
     if k == 0:
         assert abs(res.R + res.T - 1) < 1e-3
     for d in (-1e-6, 1e-6):   # the physics is continuous through the anomaly
-        near = solve(cell, Incidence(lam, sigma + d, from_below=from_below), tol=1e-6)
+        near = solve(cell, Incidence(lam, sigma + d, from_below=from_below), tol=1e-6, polarisation=pol)
         assert abs(near.R - res.R) < 1e-4 and abs(near.T - res.T) < 1e-4
 
 

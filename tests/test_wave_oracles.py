@@ -75,6 +75,7 @@ def test_mie_small_sphere_matches_born_and_optical_theorem():
     assert 4 * math.pi / k * mie_scalar_amplitude(m, k, a, 1.0).imag > sca
 
 
+@pytest.mark.usefixtures("single_blas_thread")
 def test_rcwa_reduces_to_airy_and_conserves_energy():
     m, r, t, ka, kc = rcwa_te(1.0, 1.0, 1.5 ** 2, 1.5 ** 2, 0, 100, 500, 300, 500, 0.3, 4)
     ra, ta, _, _ = airy_te(1.0, 1.5, 1.0, 300, 500, 0.3)

@@ -1,7 +1,8 @@
 """TM polarisation at the layer's faces: u and ∂_z u/ε continuous (u = H_y), against the exact
 TM Airy formula (oracles.airy_slab; the slab cases of both polarisations are in
-test_wave_slab.py); TM energy closure with real and complex ε_f; reciprocity; Brewster; hard
-cases.  The interior stays scalar (docs/wave_solver.md, "TM polarisation")."""
+test_wave_slab.py, Wood anomalies in test_wave_hard.py); TM energy closure with real and
+complex ε_f; reciprocity; Brewster; hard cases.  The interior stays scalar
+(docs/wave_solver.md, "TM polarisation")."""
 from __future__ import annotations
 
 import math
@@ -10,7 +11,7 @@ import warnings
 import numpy as np
 import pytest
 
-from conftest import slab_against_airy
+from conftest import reciprocal_order_pairs, slab_against_airy
 from solver.wave import Cell, Incidence, bloch_vector, prepare, solve, solve_prepared
 from solver.wave.oracles import random_spheres, sphere_fractions
 from solver.wave.validation import random_layer
@@ -87,54 +88,14 @@ def test_reciprocity_of_tm_orders():
     reflection within one medium (the TE relation) and transmission between unequal
     half-spaces (where the ε factor matters: checked to fail without it)."""
     base = random_layer(1.4 + 0.1j, shape=(24, 24, 12))
-    eps_a, eps_c = 1.0, 1.33 ** 2
-    cell = Cell(base.eps, base.period_nm, base.z_range_nm, eps_above=eps_a, eps_below=eps_c)
-    k0 = 2 * math.pi / LAM
-    sig_a, phi_a = 0.3, 0.4
-    res_a = solve(cell, Incidence(LAM, sig_a, phi_a), tol=1e-8, polarisation="tm")
-    kz_a = k0 * math.cos(sig_a)
-    checked = 0
-    for (m, n) in ((1, 0), (-1, 1), (0, -1)):
-        for side in ("R", "T"):
-            orders = res_a.reflected if side == "R" else res_a.transmitted
-            i = orders.index(m, n)
-            kx, ky, kz_b = orders.kx[i], orders.ky[i], orders.kz[i].real
-            assert orders.propagating[i]
-            eps_b = eps_a if side == "R" else eps_c
-            back = Incidence(LAM, math.asin(math.hypot(kx, ky) / (k0 * math.sqrt(eps_b))),
-                             math.atan2(ky, kx) + math.pi, from_below=(side == "T"))
-            res_b = solve(cell, back, tol=1e-8, polarisation="tm")
-            other = res_b.reflected if side == "R" else res_b.transmitted
-            j = other.index(m, n)
-            assert abs(other.kx[j] + res_a.kx0) < 1e-12 and abs(other.ky[j] + res_a.ky0) < 1e-12
-            lhs = orders.amplitude[i] * eps_a / kz_a
-            rhs = other.amplitude[j] * eps_b / kz_b
-            assert abs(lhs - rhs) <= 1e-3 * abs(lhs), (m, n, side, lhs, rhs)
-            if side == "T":
-                assert abs(orders.amplitude[i] / kz_a - other.amplitude[j] / kz_b) \
-                    > 0.1 * abs(lhs)                # the TE form fails here
-            checked += 1
-    assert checked == 6
-
-
-@pytest.mark.parametrize("from_below", [False, True])
-def test_tm_exact_wood_anomaly_is_finite(from_below):
-    period, lam = 800.0, 600.0
-    rng = np.random.default_rng(3)
-    centres = random_spheres(rng, 6, (period, period), (0.0, 400.0), 75.0)
-    frac = sphere_fractions(centres, 75.0, (period, period), (0.0, 400.0), (24, 24, 12))
-    cell = Cell(E_BINDER + ((1.4 + 0.2j) ** 2 - E_BINDER) * frac, (period, period), (0.0, 400.0))
-    sigma = math.asin(1 - lam / period)
-    res = solve(cell, Incidence(lam, sigma, from_below=from_below), tol=1e-6, polarisation="tm",
-                exact_energy=True)
-    for orders in (res.reflected, res.transmitted):
-        i = orders.index(1, 0)
-        assert orders.kz[i] == 0 and orders.power[i] == 0
-        assert np.isfinite(orders.amplitude).all() and 0 < abs(orders.amplitude[i]) < 1
-    assert res.converged and abs(res.energy_error) < 1e-4
-    near = solve(cell, Incidence(lam, sigma + 1e-6, from_below=from_below), tol=1e-6,
-                 polarisation="tm")
-    assert abs(near.R - res.R) < 1e-4 and abs(near.T - res.T) < 1e-4
+    cell = Cell(base.eps, base.period_nm, base.z_range_nm, eps_above=1.0, eps_below=1.33 ** 2)
+    pairs = reciprocal_order_pairs(cell, LAM, "tm")
+    for (m, n, side), a, b, eps_a, eps_b in pairs:
+        lhs, rhs = a * eps_a, b * eps_b
+        assert abs(lhs - rhs) <= 1e-3 * abs(lhs), (m, n, side, lhs, rhs)
+        if side == "T":
+            assert abs(a - b) > 0.1 * abs(lhs)                # the TE form fails here
+    assert len(pairs) == 6
 
 
 def test_tm_strong_absorption_and_grazing_are_finite():
