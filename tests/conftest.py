@@ -17,7 +17,9 @@ import pytest
 
 THICKNESS_NM = 1000.0
 ROOT = Path(__file__).resolve().parents[1]
-N_BINDER = 1.558
+N_BINDER = 1.558                          # the binder's refractive index (docs/design.md §2)
+E_BINDER = N_BINDER**2
+DEMO_SCENE = str(ROOT / "scenes" / "printed_page.xml")
 BREWSTER_DEG = float(np.degrees(np.arctan(N_BINDER)))
 # the inks of the paper's figures (rows of Fig. 7)
 PAPER_INKS = ["R15", "Y15", "Y12.5+B2.5", "Y7.5+B7.5", "G15", "Y2.5+B12.5", "B15", "R30", "Y30",

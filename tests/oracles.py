@@ -182,8 +182,8 @@ def _columns(table, lam, sigma):
 
 
 def smooth_albedo(col, paper, coverage, model=CY):
-    """Albedo of the smooth part: c·R_diff + the paper term of the coverage model
-    (Murray–Davies: c·r·T̄τ̄/(1 − rρ̄) + (1 − c)·r; Clapper–Yule: r·(cT̄ + 1 − c)(cτ̄ + 1 − c)/(1 − rcρ̄))."""
+    """Albedo of the smooth part: c·R_diff + the paper term of the coverage model (Murray–Davies:
+    c·r·T̄τ̄/(1 − rρ̄) + (1 − c)·r; Clapper–Yule: r·(cT̄ + 1 − c)(cτ̄ + 1 − c)/(1 − rcρ̄))."""
     c, r = coverage, paper
     if model == MD:
         return c * (col["R_diff"] + r * col["Tbar"] * col["tau"] / (1 - r * col["rho"])) + (1 - c) * r

@@ -7,9 +7,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from conftest import DEMO_SCENE
 from inkbsdf.render import main, scene_parameters
 
-SCENE = str(Path(__file__).resolve().parents[1] / "scenes" / "printed_page.xml")
+SCENE = DEMO_SCENE
 
 
 def test_missing_tables_folder(tmp_path, capsys):

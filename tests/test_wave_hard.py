@@ -8,13 +8,13 @@ import warnings
 import numpy as np
 import pytest
 
+from conftest import E_BINDER
 from oracles import te0_propagation_constant
 from solver.wave import (BornDivergenceError, Cell, ConvergenceError, ConvergenceWarning,
                          Incidence, solve)
 from solver.wave.oracles import random_spheres, sphere_fractions
 from solver.wave.validation import random_layer
 
-E_BINDER = 1.558 ** 2
 
 
 def _finite(res):

@@ -11,13 +11,11 @@ import warnings
 import numpy as np
 import pytest
 
-from conftest import reciprocal_order_pairs, slab_against_airy
+from conftest import E_BINDER, reciprocal_order_pairs, slab_against_airy
 from solver.wave import Cell, Incidence, bloch_vector, prepare, solve, solve_prepared
-from solver.wave.oracles import random_spheres, sphere_fractions
 from solver.wave.validation import random_layer
 
 LAM = 500.0
-E_BINDER = 1.558 ** 2
 
 
 @pytest.mark.parametrize("eta,eps_b", [(1.558, 2.275 + 0.168j), (1.4 + 0.2j, 1.558 ** 2)])
