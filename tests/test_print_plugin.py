@@ -28,10 +28,10 @@ def plugin_eval(mi, bsdf, wi, wo):
     return evaluate(mi, bsdf, wi, wo, np.asarray(LAMBDAS))
 
 
-def model_eval(printed, coverages, wi, wo, model, paper=0.9, lam=LAMBDAS):
+def model_eval(printed, coverages, wi, wo, model, paper=0.9):
     """f·cos θo of the smooth part from the NumPy model (solver.printing), [4, N]."""
     f = brdf_smooth(printed, coverages, paper, np.arccos(wi[2]), np.arccos(wo[2]), azimuth_difference(wi, wo),
-                    model, wavelengths_nm=lam)
+                    model, wavelengths_nm=LAMBDAS)
     return f * wo[2]
 
 
