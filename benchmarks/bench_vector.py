@@ -1,0 +1,149 @@
+"""Vector Maxwell referee (treams) against the scalar wave solver, in colour (not a test).
+
+Needs the optional extra: `pip install -e '.[test,vector]'` (treams).  Docs:
+docs/vector_referee.md.
+
+    python -m benchmarks.bench_vector                  # table of every case from the cache
+    python -m benchmarks.bench_vector --compute 600    # compute missing units for ≤ 600 s first
+    python -m benchmarks.bench_vector --quick          # one small unit (~1–2 min), both solvers
+    python -m benchmarks.bench_vector --validate       # the referee's checks (~3 min)
+
+Vector units are cached in out/bench/vector/ (one .npz per realization, λ, σ); the table lists
+what the cache holds and names the units still missing.  `--compute` works through CASES in
+order (cheapest first) and stops starting new units when its time is up.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+
+import numpy as np
+
+from benchmarks.vector import compare, runs
+from benchmarks.vector.cases import Case
+
+COLOUR_WAVELENGTHS = (420.0, 460.0, 500.0, 550.0, 600.0, 680.0)
+
+#: The comparison cases, cheapest first.  Cells are as large as the lattice sums allow on the
+#: 2-core VM (docs/vector_referee.md: cost ∝ pairs of spheres × (2·lmax + 1)²).
+CASES = (
+    Case(300.0, 0.15, 1000.0, COLOUR_WAVELENGTHS),
+    Case(100.0, 0.15, 500.0, COLOUR_WAVELENGTHS, pw_cutoff_per_nm=0.08),
+    Case(300.0, 0.50, 1000.0, (550.0,), polar_deg=(0.0,)),
+    Case(100.0, 0.50, 400.0, (550.0,), polar_deg=(0.0,), pw_cutoff_per_nm=0.08),
+)
+QUICK = Case(300.0, 0.15, 1000.0, (500.0,), polar_deg=(0.0,))
+
+
+def units_of(case: Case, *, compute_until: float | None = None):
+    """[λ][σ] lists of (vector units, scalar units) over realizations; missing vector units are
+    computed while time.monotonic() < compute_until, else listed in `missing`."""
+    vec, sca, missing = [], [], []
+    for lam in case.wavelengths_nm:
+        vrow, srow = [], []
+        for sig in case.polar_deg:
+            vs, ss = [], []
+            for r in range(case.realizations):
+                go = compute_until is not None and time.monotonic() < compute_until
+                u = runs.vector_unit(case, r, lam, sig, compute=go)
+                if u is None:
+                    missing.append((r, lam, sig))
+                    continue
+                vs.append(u)
+                ss.append(runs.scalar_unit(case, r, lam, sig))
+            vrow.append(vs)
+            srow.append(ss)
+        vec.append(vrow)
+        sca.append(srow)
+    return vec, sca, missing
+
+
+def _fmt(x, nd=4):
+    return "  n/a " if not np.isfinite(x) else f"{x:.{nd}f}"
+
+
+def print_case(case: Case, vec, sca, missing) -> dict | None:
+    print(f"\n--- {case.label}: λ {list(case.wavelengths_nm)} nm, σ {list(case.polar_deg)}°, "
+          f"{case.realizations} realization(s), face buffer, pw cutoff {case.pw_cutoff_per_nm}/nm")
+    if missing:
+        print(f"    vector units missing ({len(missing)}): " +
+              ", ".join(f"r{r} λ{lam:g} σ{sig:g}" for r, lam, sig in missing[:8]) +
+              (" ..." if len(missing) > 8 else "") + "  (run with --compute SECONDS)")
+        return None
+    info = vec[0][0][0].info
+    secs = [u.seconds for row in vec for us in row for u in us]
+    print(f"    vector: {info.get('info', info)}; {np.mean(secs):.0f} s per unit "
+          f"(total {np.sum(secs) / 60:.1f} min)")
+    ev = compare.reduce_units(vec, case.wavelengths_nm, case.polar_deg)
+    es = compare.reduce_units(sca, case.wavelengths_nm, case.polar_deg)
+    print("    λ     σ  pol |  Rbar vec  scal   diff |  Tbar vec  scal   diff | Rspec vec  scal   diff")
+    for i, lam in enumerate(case.wavelengths_nm):
+        for j, sig in enumerate(case.polar_deg):
+            for p, name in enumerate(compare.POL_NAMES):
+                cells = []
+                for q in ("Rbar", "Tbar", "R_spec"):
+                    a, b = getattr(ev, q)[i, j, p], getattr(es, q)[i, j, p]
+                    cells.append(f"{_fmt(a)} {_fmt(b)} {_fmt(b - a):>7}")
+                print(f"  {lam:4.0f} {sig:4.0f}  {name:5s}| " + " | ".join(cells))
+    out = {}
+    if len(case.wavelengths_nm) >= 3 and len(case.polar_deg) >= 2:
+        print("    ink on paper (r = 0.9), diffuse light: CIELAB and ΔE2000 (scalar vs vector)")
+        for p, name in enumerate(compare.POL_NAMES):
+            if not np.all(np.isfinite(es.Rbar[..., p])):
+                print(f"    {name:5s}: scalar solver lacks this polarisation (TM pending)")
+                continue
+            lab_v, lab_s = compare.lab_of(ev, p), compare.lab_of(es, p)
+            de = compare.delta_e2000(lab_v, lab_s)
+            out[name] = de
+            for j, sig in enumerate(case.polar_deg):
+                print(f"    {name:5s} view {sig:4.0f}°: vector L*a*b* "
+                      f"{lab_v[j, 0]:6.2f} {lab_v[j, 1]:6.2f} {lab_v[j, 2]:6.2f}  scalar "
+                      f"{lab_s[j, 0]:6.2f} {lab_s[j, 1]:6.2f} {lab_s[j, 2]:6.2f}  ΔE2000 {de[j]:.2f}")
+        if "s" in out and "unpol" not in out:
+            lab_v = compare.lab_of(ev, 2)
+            lab_s = compare.lab_of(es, 0)
+            de = compare.delta_e2000(lab_v, lab_s)
+            print("    scalar TE-only table against the unpolarised vector layer: ΔE2000 " +
+                  ", ".join(f"{sig:g}°: {d:.2f}" for sig, d in zip(case.polar_deg, de)))
+            out["te_vs_unpol"] = de
+    return out
+
+
+def quick() -> int:
+    t0 = time.monotonic()
+    vec, sca, missing = units_of(QUICK, compute_until=time.monotonic() + 1e9)
+    print_case(QUICK, vec, sca, missing)
+    print(f"\n--quick: {time.monotonic() - t0:.0f} s (cached units are read, not recomputed)")
+    return 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m benchmarks.bench_vector", description=__doc__.split("\n")[0])
+    ap.add_argument("--quick", action="store_true", help="one small unit, both solvers")
+    ap.add_argument("--validate", action="store_true", help="run the referee's validation checks")
+    ap.add_argument("--compute", type=float, default=0.0, metavar="SECONDS",
+                    help="compute missing vector units, starting new ones for at most this long")
+    args = ap.parse_args(argv)
+    try:
+        import treams  # noqa: F401
+    except ImportError:
+        print("treams is not installed: pip install -e '.[vector]' (optional extra)", file=sys.stderr)
+        return 2
+    if args.validate:
+        from benchmarks.vector import validate
+        return validate.main()
+    if args.quick:
+        return quick()
+    until = time.monotonic() + args.compute if args.compute > 0 else None
+    print(f"scalar solver polarisations: {', '.join(runs.scalar_polarisations())}; "
+          f"scalar grid voxel {runs.SCALAR_VOXEL_NM:.1f} nm, tol {runs.SCALAR_TOL:g}")
+    for case in CASES:
+        vec, sca, missing = units_of(case, compute_until=until)
+        print_case(case, vec, sca, missing)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
