@@ -6,7 +6,8 @@ docs/vector_referee.md.
     python -m benchmarks.bench_vector                  # table of every case from the cache
     python -m benchmarks.bench_vector --compute 600    # compute missing units for ≤ 600 s first
     python -m benchmarks.bench_vector --quick          # one small unit (~1–2 min), both solvers
-    python -m benchmarks.bench_vector --validate       # the referee's checks (~3 min)
+    python -m benchmarks.bench_vector --validate       # the referee's checks (~1–2 min)
+    python -m benchmarks.bench_vector --case 1 --compute 3000   # one case only
 
 Vector units are cached in out/bench/vector/ (one .npz per realization, λ, σ); the table lists
 what the cache holds and names the units still missing.  `--compute` works through CASES in
@@ -24,7 +25,7 @@ import numpy as np
 from benchmarks.vector import compare, runs
 from benchmarks.vector.cases import Case
 
-COLOUR_WAVELENGTHS = (420.0, 460.0, 500.0, 550.0, 600.0, 680.0)
+COLOUR_WAVELENGTHS = (420.0, 470.0, 520.0, 580.0, 660.0)
 
 #: The comparison cases, cheapest first.  Cells are as large as the lattice sums allow on the
 #: 2-core VM (docs/vector_referee.md: cost ∝ pairs of spheres × (2·lmax + 1)²).
@@ -38,13 +39,15 @@ QUICK = Case(300.0, 0.15, 1000.0, (500.0,), polar_deg=(0.0,))
 
 
 def units_of(case: Case, *, compute_until: float | None = None):
-    """[λ][σ] lists of (vector units, scalar units) over realizations; missing vector units are
-    computed while time.monotonic() < compute_until, else listed in `missing`."""
-    vec, sca, missing = [], [], []
+    """[λ][σ] lists over realizations of the vector units and, per scalar variant, the scalar
+    units; missing vector units are computed while time.monotonic() < compute_until, else
+    listed in `missing`."""
+    vec, missing = [], []
+    sca = {v: [] for v in runs.VARIANTS}
     for lam in case.wavelengths_nm:
-        vrow, srow = [], []
+        vrow, srows = [], {v: [] for v in runs.VARIANTS}
         for sig in case.polar_deg:
-            vs, ss = [], []
+            vs, ss = [], {v: [] for v in runs.VARIANTS}
             for r in range(case.realizations):
                 go = compute_until is not None and time.monotonic() < compute_until
                 u = runs.vector_unit(case, r, lam, sig, compute=go)
@@ -52,11 +55,14 @@ def units_of(case: Case, *, compute_until: float | None = None):
                     missing.append((r, lam, sig))
                     continue
                 vs.append(u)
-                ss.append(runs.scalar_unit(case, r, lam, sig))
+                for v in runs.VARIANTS:
+                    ss[v].append(runs.scalar_unit(case, r, lam, sig, v))
             vrow.append(vs)
-            srow.append(ss)
+            for v in runs.VARIANTS:
+                srows[v].append(ss[v])
         vec.append(vrow)
-        sca.append(srow)
+        for v in runs.VARIANTS:
+            sca[v].append(srows[v])
     return vec, sca, missing
 
 
@@ -64,21 +70,43 @@ def _fmt(x, nd=4):
     return "  n/a " if not np.isfinite(x) else f"{x:.{nd}f}"
 
 
+def _colour(case, ev, es, what) -> dict:
+    out = {}
+    for p, name in enumerate(compare.POL_NAMES):
+        if not np.all(np.isfinite(es.Rbar[..., p])):
+            print(f"    {name:5s}: scalar solver lacks this polarisation (TM pending)")
+            continue
+        lab_v, lab_s = compare.lab_of(ev, p), compare.lab_of(es, p)
+        de = compare.delta_e2000(lab_v, lab_s)
+        out[name] = de
+        for j, sig in enumerate(case.polar_deg):
+            print(f"    {name:5s} view {sig:4.0f}°: vector L*a*b* {lab_v[j, 0]:6.2f} {lab_v[j, 1]:6.2f} "
+                  f"{lab_v[j, 2]:6.2f}  {what} {lab_s[j, 0]:6.2f} {lab_s[j, 1]:6.2f} {lab_s[j, 2]:6.2f}"
+                  f"  ΔE2000 {de[j]:.2f}")
+    if "s" in out and "unpol" not in out:
+        de = compare.delta_e2000(compare.lab_of(ev, 2), compare.lab_of(es, 0))
+        print(f"    {what} TE-only against the unpolarised vector layer: ΔE2000 " +
+              ", ".join(f"{sig:g}°: {d:.2f}" for sig, d in zip(case.polar_deg, de)))
+        out["te_vs_unpol"] = de
+    return out
+
+
 def print_case(case: Case, vec, sca, missing) -> dict | None:
     print(f"\n--- {case.label}: λ {list(case.wavelengths_nm)} nm, σ {list(case.polar_deg)}°, "
-          f"{case.realizations} realization(s), face buffer, pw cutoff {case.pw_cutoff_per_nm}/nm")
+          f"{case.realizations} realization(s), pw cutoff {case.pw_cutoff_per_nm}/nm")
     if missing:
         print(f"    vector units missing ({len(missing)}): " +
               ", ".join(f"r{r} λ{lam:g} σ{sig:g}" for r, lam, sig in missing[:8]) +
               (" ..." if len(missing) > 8 else "") + "  (run with --compute SECONDS)")
         return None
-    info = vec[0][0][0].info
     secs = [u.seconds for row in vec for us in row for u in us]
-    print(f"    vector: {info.get('info', info)}; {np.mean(secs):.0f} s per unit "
-          f"(total {np.sum(secs) / 60:.1f} min)")
+    print(f"    vector: {vec[0][0][0].info.get('info')}; {np.mean(secs):.0f} s per unit "
+          f"(all units {np.sum(secs) / 60:.1f} min, 2-core VM shared with other jobs)")
     ev = compare.reduce_units(vec, case.wavelengths_nm, case.polar_deg)
-    es = compare.reduce_units(sca, case.wavelengths_nm, case.polar_deg)
-    print("    λ     σ  pol |  Rbar vec  scal   diff |  Tbar vec  scal   diff | Rspec vec  scal   diff")
+    es = compare.reduce_units(sca["plain"], case.wavelengths_nm, case.polar_deg)
+    el = compare.reduce_units(sca["localfield"], case.wavelengths_nm, case.polar_deg)
+    print("    λ     σ  pol  |  Rbar vec  scal    diff |  Tbar vec  scal    diff | Rspec vec  scal    diff"
+          " | A scal/vec | local-field scalar: ΔRbar  ΔTbar")
     for i, lam in enumerate(case.wavelengths_nm):
         for j, sig in enumerate(case.polar_deg):
             for p, name in enumerate(compare.POL_NAMES):
@@ -86,28 +114,19 @@ def print_case(case: Case, vec, sca, missing) -> dict | None:
                 for q in ("Rbar", "Tbar", "R_spec"):
                     a, b = getattr(ev, q)[i, j, p], getattr(es, q)[i, j, p]
                     cells.append(f"{_fmt(a)} {_fmt(b)} {_fmt(b - a):>7}")
-                print(f"  {lam:4.0f} {sig:4.0f}  {name:5s}| " + " | ".join(cells))
+                a_v = 1 - ev.Rbar[i, j, p] - ev.Tbar[i, j, p]
+                a_s = 1 - es.Rbar[i, j, p] - es.Tbar[i, j, p]
+                ratio = a_s / a_v if a_v > 1e-3 else np.nan
+                lf = (f"{_fmt(el.Rbar[i, j, p] - ev.Rbar[i, j, p]):>7} "
+                      f"{_fmt(el.Tbar[i, j, p] - ev.Tbar[i, j, p]):>7}")
+                print(f"  {lam:4.0f} {sig:4.0f}  {name:5s}| " + " | ".join(cells) +
+                      f" | {_fmt(ratio, 3):>9} | {lf}")
     out = {}
     if len(case.wavelengths_nm) >= 3 and len(case.polar_deg) >= 2:
-        print("    ink on paper (r = 0.9), diffuse light: CIELAB and ΔE2000 (scalar vs vector)")
-        for p, name in enumerate(compare.POL_NAMES):
-            if not np.all(np.isfinite(es.Rbar[..., p])):
-                print(f"    {name:5s}: scalar solver lacks this polarisation (TM pending)")
-                continue
-            lab_v, lab_s = compare.lab_of(ev, p), compare.lab_of(es, p)
-            de = compare.delta_e2000(lab_v, lab_s)
-            out[name] = de
-            for j, sig in enumerate(case.polar_deg):
-                print(f"    {name:5s} view {sig:4.0f}°: vector L*a*b* "
-                      f"{lab_v[j, 0]:6.2f} {lab_v[j, 1]:6.2f} {lab_v[j, 2]:6.2f}  scalar "
-                      f"{lab_s[j, 0]:6.2f} {lab_s[j, 1]:6.2f} {lab_s[j, 2]:6.2f}  ΔE2000 {de[j]:.2f}")
-        if "s" in out and "unpol" not in out:
-            lab_v = compare.lab_of(ev, 2)
-            lab_s = compare.lab_of(es, 0)
-            de = compare.delta_e2000(lab_v, lab_s)
-            print("    scalar TE-only table against the unpolarised vector layer: ΔE2000 " +
-                  ", ".join(f"{sig:g}°: {d:.2f}" for sig, d in zip(case.polar_deg, de)))
-            out["te_vs_unpol"] = de
+        print("    ink on paper (r = 0.9) under diffuse light, CIELAB (D65) and ΔE2000 to the vector layer:")
+        out["plain"] = _colour(case, ev, es, "scalar")
+        print("    the same with the local-field-corrected pigment ε in the scalar solver (experiment):")
+        out["localfield"] = _colour(case, ev, el, "scalar-LF")
     return out
 
 
@@ -125,6 +144,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--validate", action="store_true", help="run the referee's validation checks")
     ap.add_argument("--compute", type=float, default=0.0, metavar="SECONDS",
                     help="compute missing vector units, starting new ones for at most this long")
+    ap.add_argument("--case", type=int, action="append", metavar="N",
+                    help="only case N of CASES (0-based; repeatable), e.g. to compute cases in parallel")
     args = ap.parse_args(argv)
     try:
         import treams  # noqa: F401
@@ -139,7 +160,8 @@ def main(argv: list[str] | None = None) -> int:
     until = time.monotonic() + args.compute if args.compute > 0 else None
     print(f"scalar solver polarisations: {', '.join(runs.scalar_polarisations())}; "
           f"scalar grid voxel {runs.SCALAR_VOXEL_NM:.1f} nm, tol {runs.SCALAR_TOL:g}")
-    for case in CASES:
+    chosen = CASES if not args.case else [CASES[i] for i in args.case]
+    for case in chosen:
         vec, sca, missing = units_of(case, compute_until=until)
         print_case(case, vec, sca, missing)
     return 0

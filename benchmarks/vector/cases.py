@@ -57,8 +57,8 @@ class Case:
     @property
     def geometry_key(self) -> str:
         """Hash of what fixes one realization's spheres (not the wavelengths or angles)."""
-        fields = dict(d=self.diameter_nm, f=self.fraction, cell=self.cell_nm, pig=self.pigment,
-                      h=self.thickness_nm, seed=self.seed, buffer=FACE_BUFFER_NM)
+        fields = dict(d=float(self.diameter_nm), f=float(self.fraction), cell=float(self.cell_nm), pig=self.pigment,
+                      h=float(self.thickness_nm), seed=int(self.seed), buffer=FACE_BUFFER_NM)
         return hashlib.sha256(json.dumps(fields, sort_keys=True).encode()).hexdigest()[:16]
 
     def with_(self, **changes) -> "Case":

@@ -104,20 +104,43 @@ def scalar_grid(case: Case) -> tuple[int, int, int]:
     return n_xy, n_xy, int(round(case.thickness_nm / SCALAR_VOXEL_NM))
 
 
-def scalar_path(case: Case, r: int, lam: float, sigma_deg: float) -> Path:
+def scalar_path(case: Case, r: int, lam: float, sigma_deg: float, variant: str = "plain") -> Path:
     nx, _, nz = scalar_grid(case)
     pols = "".join(scalar_polarisations())
-    return CACHE / case.geometry_key / f"scalar_r{r}_l{_tag(lam)}_s{_tag(sigma_deg)}_g{nx}x{nz}_{pols}.npz"
+    extra = "" if variant == "plain" else f"_{variant}"
+    return (CACHE / case.geometry_key /
+            f"scalar_r{r}_l{_tag(lam)}_s{_tag(sigma_deg)}_g{nx}x{nz}_{pols}{extra}.npz")
 
 
-def scalar_unit(case: Case, r: int, lam: float, sigma_deg: float) -> Unit:
-    """The project's scalar solver (solver.wave) on the same realization (cached)."""
-    path = scalar_path(case, r, lam, sigma_deg)
+def local_field_eps(eps_particle: complex, eps_host: float) -> complex:
+    """Permittivity whose *scalar* contrast equals the vector dipole response of a small sphere:
+    ε' − ε_h = 3ε_h(ε − ε_h)/(ε + 2ε_h) (Clausius–Mossotti local-field factor).  An experiment,
+    not part of the project's scalar model: does this one correction close the gap?"""
+    return eps_host + 3 * eps_host * (eps_particle - eps_host) / (eps_particle + 2 * eps_host)
+
+
+VARIANTS = ("plain", "localfield")
+
+
+def scalar_unit(case: Case, r: int, lam: float, sigma_deg: float, variant: str = "plain") -> Unit:
+    """The project's scalar solver (solver.wave) on the same realization (cached).
+
+    variant 'plain': the project's model (ε per voxel = volume mean of the materials, eps_grid);
+    'localfield': the pigment's ε replaced by `local_field_eps`."""
+    if variant not in VARIANTS:
+        raise ValueError(f"scalar variant must be one of {VARIANTS}, got {variant!r}")
+    path = scalar_path(case, r, lam, sigma_deg, variant)
     if path.exists():
         return _load(path)
     t0 = time.perf_counter()
     vox = voxelize(realization(case, r), scalar_grid(case))
-    cell = Cell(eps_grid(vox, lam), (case.cell_nm, case.cell_nm), vox.z_range_nm)
+    if variant == "plain":
+        eps = eps_grid(vox, lam)
+    else:
+        frac = dict(zip(vox.materials, vox.fractions.astype(np.float64)))
+        eps = (frac["binder"] * host_eps() + frac["air"] * 1.0
+               + frac[case.pigment] * local_field_eps(sphere_eps(case, lam), host_eps()))
+    cell = Cell(eps, (case.cell_nm, case.cell_nm), vox.z_range_nm)
     R, T = np.full(2, np.nan), np.full(2, np.nan)
     r00, t00 = np.full((2, 2), np.nan, complex), np.full((2, 2), np.nan, complex)
     for i, pol in enumerate(("s", "p")):

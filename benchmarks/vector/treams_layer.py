@@ -82,6 +82,11 @@ def lattice_solve(cluster, period_nm, kpar):
     return cluster.latticeinteraction.solve(lattice, list(kpar)), lattice
 
 
+def min_cutoff(k0, eps_host, kpar, margin=1.05):
+    """Smallest plane-wave cutoff (1/nm) that keeps every order propagating in the binder."""
+    return margin * (k0 * math.sqrt(eps_host) + math.hypot(*kpar))
+
+
 def plane_wave_basis(kpar, lattice, cutoff_per_nm):
     return treams.PlaneWaveBasisByComp.diffr_orders(list(kpar), lattice, cutoff_per_nm)
 
@@ -204,6 +209,9 @@ def solve_cell(radii_nm, centres_nm, eps_sphere, wavelength_nm, polar_rad, perio
     t1 = time.perf_counter()
     tsol, lattice = lattice_solve(cluster, period_nm, kpar)
     t2 = time.perf_counter()
+    if settings.pw_cutoff_per_nm < min_cutoff(k0, eps_host, kpar, 1.0):
+        raise ValueError(f"pw_cutoff_per_nm {settings.pw_cutoff_per_nm} drops orders that propagate in the "
+                         f"binder at λ {wavelength_nm:g} nm: use ≥ {min_cutoff(k0, eps_host, kpar):.4f}")
     pwb = plane_wave_basis(kpar, lattice, settings.pw_cutoff_per_nm)
     slab = slab_smatrix(tsol, lattice, kpar, pwb, k0, eps_host, thickness_nm)
     total = stack_layer(slab, pwb, k0, eps_host)
