@@ -45,15 +45,11 @@ $(LLVM_STAMP): $(STAMP)
 llvm: $(LLVM_STAMP)
 
 # ------------------------------------------------------------------- targets
-DEMO_INKS := clear R30 Y30 B30 G30 Y25+B5
 TABLE_DIR := $(OUT)/tables
 
+# the demo inks (inkbsdf/demo_tables.py): missing or unreadable tables are (re)built
 tables: $(LLVM_STAMP)
-	@mkdir -p $(TABLE_DIR)
-	@for ink in $(DEMO_INKS); do \
-	  f=$(TABLE_DIR)/$$ink.npz; \
-	  [ -f $$f ] || $(VENV)/bin/ink-tables build --ink $$ink -o $$f || exit 1; \
-	done
+	@$(VPY) -m inkbsdf.demo_tables $(TABLE_DIR)
 
 demo: tables
 	$(VPY) -m inkbsdf.render scenes/printed_page.xml --tables $(TABLE_DIR) \

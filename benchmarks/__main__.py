@@ -10,7 +10,7 @@ import importlib
 import sys
 import time
 
-STUDIES = ("geometry", "wave", "render", "tables", "findings")
+STUDIES = ("geometry", "wave", "render", "tables", "findings", "polarisation")
 
 
 def main(argv: list[str]) -> int:

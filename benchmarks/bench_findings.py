@@ -28,7 +28,7 @@ from solver.colour import lab_hue_chroma, reflectance_to_srgb8, reflectance_to_x
 from solver.table.builder import BuildOptions, build_table
 from solver.table.cache import TableCache
 from solver.table.evaluate import directional_albedo
-from solver.table.request import TableRequest
+from solver.table.request import table_request
 
 OUT = Path("out/bench")
 SETTINGS = dict(sigma_rad=tuple(np.radians([0, 30, 60, 80, 90])), realizations=3, azimuths=1,
@@ -50,7 +50,7 @@ def main(argv=None) -> int:
     for ink, particles in CASES:
         t0 = time.perf_counter()
         settings = {} if particles == "molecular" else SETTINGS
-        table = build_table(TableRequest(ink, particles=particles, **settings),
+        table = build_table(table_request(ink, particles, **settings),
                             BuildOptions(progress=False, cache=cache))
         labs[ink, particles], rgbs[ink, particles] = colour(table)
         lab = labs[ink, particles]
@@ -58,7 +58,7 @@ def main(argv=None) -> int:
         print(f"{ink:10s} {particles:24s} L* {lab[0]:5.1f} a* {lab[1]:6.1f} b* {lab[2]:6.1f} "
               f"C* {chroma:5.1f} s {chroma / lab[0]:4.2f} h {hue:5.1f}°   ({time.perf_counter() - t0:.0f} s)",
               flush=True)
-    green = colour(build_table(TableRequest("G15"), BuildOptions(progress=False, cache=cache)))[0]
+    green = colour(build_table(table_request("G15"), BuildOptions(progress=False, cache=cache)))[0]
     C = lambda ink, p: float(lab_hue_chroma(labs[ink, p])[1])
     S = lambda ink, p: C(ink, p) / float(labs[ink, p][0])          # CIELAB saturation C*/L*
     dE = lambda a, b: float(np.linalg.norm(a - b))

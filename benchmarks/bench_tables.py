@@ -23,13 +23,12 @@ from pathlib import Path
 
 import numpy as np
 
-from solver.inks import parse_ink
 from solver.table.builder import BuildOptions, build_table
 from solver.table.executor import default_workers
 from solver.table.cache import TableCache
 from solver.table.evaluate import directional_albedo
-from solver.table.request import TableRequest
-from solver.table.thinfilm_tier import build_thinfilm_table
+from solver.table.request import TableRequest, table_request
+from solver.table.thinfilm_tier import request_film
 from solver.table.wave_tier import GeometryUnit, SolveUnit, geometry_unit, solve_unit
 
 from .bench_findings import colour
@@ -43,7 +42,7 @@ def _options(workers: int = 1) -> BuildOptions:
 
 
 def default_table(workers: int) -> None:
-    req = TableRequest(INK, particles=PARTICLES)
+    req = table_request(INK, PARTICLES)
     print(f"default table: {req.describe()}, tier auto, {workers} worker(s)")
     t0 = time.perf_counter()
     table = build_table(req, _options(workers))
@@ -68,7 +67,7 @@ def _unit_summary(req: TableRequest, realization: int, wavelength_index: int) ->
 
 def realizations_curve(wavelengths=(450.0, 550.0, 650.0), max_n: int = 8) -> list[tuple]:
     """Standard error of the table columns vs the number of realizations (and its cost)."""
-    req = TableRequest(INK, particles=PARTICLES, wavelengths_nm=wavelengths, realizations=max_n,
+    req = table_request(INK, PARTICLES, wavelengths_nm=wavelengths, realizations=max_n,
                        sigma_rad=tuple(np.radians([0, 30, 60, 90])))
     samples, seconds = [], []
     for r in range(max_n):
@@ -94,7 +93,7 @@ def grid_curve(wavelengths=(450.0, 650.0)) -> list[tuple]:
     grids = [(32, 32, 16), (48, 48, 24), (64, 64, 32), (96, 96, 48), (128, 128, 64)]
     results = {}
     for g in grids:
-        req = TableRequest(INK, particles=PARTICLES, wavelengths_nm=wavelengths, grid=g, realizations=1,
+        req = table_request(INK, PARTICLES, wavelengths_nm=wavelengths, grid=g, realizations=1,
                            azimuths=1, sigma_rad=tuple(np.radians([0, 45, 90])))
         per_l = [_unit_summary(req, 0, li) for li in range(len(wavelengths))]
         results[g] = (np.stack([v for v, _ in per_l]), sum(s for _, s in per_l))
@@ -108,6 +107,11 @@ def grid_curve(wavelengths=(450.0, 650.0)) -> list[tuple]:
     return rows
 
 
+def film(ink: str, wavelengths_nm, sigma_rad):
+    """The exact film table of a molecular ink on the given grids (through the request)."""
+    return request_film(table_request(ink, wavelengths_nm=wavelengths_nm, sigma_rad=sigma_rad))
+
+
 def wavelength_step_curve(ink: str = "G30") -> list[tuple]:
     """CIELAB ΔE of the ink on paper (diffuse light, 0° view) vs the table's wavelength step."""
     sigma = np.linspace(0, np.pi / 2, 46)
@@ -115,7 +119,7 @@ def wavelength_step_curve(ink: str = "G30") -> list[tuple]:
     def lab(step):
         wl = np.arange(380.0, 780.0 + 0.5, step)
         t0 = time.perf_counter()
-        table = build_thinfilm_table(parse_ink(ink), 1000.0, wl, sigma)
+        table = film(ink, wl, sigma)
         seconds = time.perf_counter() - t0
         return colour(table)[0], seconds
 
@@ -134,12 +138,12 @@ def angle_count_curve(ink: str = "B30") -> list[tuple]:
     """Error of the interpolated directional albedo between nodes vs the number of σ nodes."""
     wl = np.arange(380.0, 781.0, 20.0)
     probe = np.radians(np.linspace(0.5, 89.5, 179))
-    exact = build_thinfilm_table(parse_ink(ink), 1000.0, wl, np.concatenate([probe, [np.pi / 2]]))
+    exact = film(ink, wl, np.concatenate([[0.0], probe, [np.pi / 2]]))
     ref = directional_albedo(exact, 0.9, probe)
     print(f"incidence-angle knob ({ink} thin film, max error of the interpolated albedo over 0–89.5°):")
     rows = []
     for n in (5, 8, 12, 24, 46):
-        table = build_thinfilm_table(parse_ink(ink), 1000.0, wl, np.linspace(0, np.pi / 2, n))
+        table = film(ink, wl, np.linspace(0, np.pi / 2, n))
         err = float(np.max(np.abs(directional_albedo(table, 0.9, probe) - ref)))
         rows.append((n, err, n))
         print(f"  {n:>2} angles: max error {err:.4f}")

@@ -1,7 +1,7 @@
 """The demo scene's inks and a way to build their tables without `make tables` (tests, bench).
 
-Same settings as `ink-tables build` defaults: exact thin-film tier, 1000 nm layer,
-380–780 nm every 10 nm, 46 incidence angles; files named `<ink>.npz` like `make tables`.
+The same requests as `ink-tables build --ink <ink>` and as `ink="<ink>"` in a scene (every
+default comes from `solver.table.request`); files named `<ink>.npz` like `make tables`.
 """
 
 from __future__ import annotations
@@ -9,23 +9,48 @@ from __future__ import annotations
 from pathlib import Path
 
 DEMO_INKS = ("clear", "R30", "Y30", "B30", "G30", "Y25+B5")
-THICKNESS_NM = 1000.0
 
 
-def build_tables(folder, inks=DEMO_INKS, wavelengths="380:780:10", angles=46, overwrite=True) -> dict:
-    """{ink: path} of thin-film tables written into `folder`."""
-    from solver.cli.build import parse_range, sigma_grid
-    from solver.inks import parse_ink
+def build_tables(folder, inks=DEMO_INKS, overwrite=True, **request_options) -> dict:
+    """{ink: path} of the inks' tables written into `folder` (molecular: exact thin films)."""
     from solver.table import write_table
-    from solver.table.thinfilm_tier import build_thinfilm_table
+    from solver.table.builder import build_table
+    from solver.table.request import table_request
 
     folder = Path(folder)
     paths = {}
     for ink in inks:
         path = folder / f"{ink}.npz"
         if overwrite or not path.is_file():
-            table = build_thinfilm_table(parse_ink(ink), THICKNESS_NM, parse_range(wavelengths),
-                                         sigma_grid(angles))
-            write_table(path, table)
+            write_table(path, build_table(table_request(ink, **request_options)))
         paths[ink] = path
     return paths
+
+
+def main(argv=None) -> int:
+    """`python -m inkbsdf.demo_tables OUTDIR`: (re)build the demo tables that are missing or
+    unreadable (what `make tables` runs)."""
+    import sys
+
+    from solver.table import TableError, read_table
+
+    args = sys.argv[1:] if argv is None else argv
+    if len(args) != 1:
+        print("usage: python -m inkbsdf.demo_tables OUTDIR", file=sys.stderr)
+        return 2
+    folder = Path(args[0])
+    for ink in DEMO_INKS:
+        path = folder / f"{ink}.npz"
+        try:
+            read_table(path)
+            continue
+        except TableError as exc:
+            if path.exists():
+                print(f"rebuilding {path}: {exc}")
+        build_tables(folder, [ink])
+        print(f"wrote {path}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -3,9 +3,35 @@
 
 from __future__ import annotations
 
+import math
+import warnings
 from pathlib import Path
 
 import numpy as np
+
+
+class NonFiniteWarning(UserWarning):
+    """An image written to PNG has NaN or infinite pixels (they cannot be shown as colours)."""
+
+
+def check_suffix(path, suffix: str, what: str) -> Path:
+    """`path` as a Path if it ends in `suffix` (any case), else ValueError naming the fix."""
+    path = Path(path)
+    if path.suffix.lower() != suffix:
+        raise ValueError(f"{what} '{path}' must end in {suffix} (it is written as {suffix[1:].upper()})")
+    return path
+
+
+def check_exposure(exposure_stops: float) -> float:
+    """The exposure in stops if finite, else ValueError."""
+    if not math.isfinite(exposure_stops):
+        raise ValueError(f"exposure must be a finite number of stops, got {exposure_stops}")
+    return float(exposure_stops)
+
+
+def non_finite_pixels(image) -> int:
+    """Pixels of an [H, W, C] image with a NaN or infinite channel."""
+    return int(np.count_nonzero(~np.isfinite(np.asarray(image)).all(axis=-1)))
 
 
 def to_rgb_array(image) -> np.ndarray:
@@ -20,7 +46,7 @@ def write_exr(path, image) -> Path:
     """Write linear RGB as a float32 OpenEXR file (channels R, G, B)."""
     import mitsuba as mi
 
-    path = Path(path)
+    path = check_suffix(path, ".exr", "EXR file")
     path.parent.mkdir(parents=True, exist_ok=True)
     bitmap = mi.Bitmap(to_rgb_array(image), mi.Bitmap.PixelFormat.RGB)
     bitmap.write(str(path))
@@ -28,20 +54,30 @@ def write_exr(path, image) -> Path:
 
 
 def srgb_encode(linear: np.ndarray, exposure_stops: float = 0.0) -> np.ndarray:
-    """Linear RGB → 8-bit sRGB (IEC 61966-2-1 curve), clipped; NaN becomes 0."""
-    x = np.nan_to_num(np.asarray(linear, dtype=np.float64) * 2.0 ** exposure_stops, nan=0.0)
+    """Linear RGB → 8-bit sRGB (IEC 61966-2-1 curve), clipped; NaN becomes 0 (write_png warns).
+    A non-finite exposure is refused (ValueError)."""
+    scale = 2.0 ** check_exposure(exposure_stops)
+    x = np.nan_to_num(np.asarray(linear, dtype=np.float64) * scale, nan=0.0)
     x = np.clip(x, 0.0, 1.0)
     encoded = np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
     return np.round(encoded * 255.0).astype(np.uint8)
 
 
 def write_png(path, image, exposure_stops: float = 0.0) -> Path:
-    """Write a linear RGB render as an sRGB PNG."""
+    """Write a linear RGB render as an sRGB PNG; warns (NonFiniteWarning, with the count) when
+    pixels are NaN (written black) or infinite (clipped)."""
     import matplotlib.image
 
-    path = Path(path)
+    path = check_suffix(path, ".png", "PNG file")
+    rgb = to_rgb_array(image)
+    encoded = srgb_encode(rgb, exposure_stops)
+    bad = non_finite_pixels(rgb)
+    if bad:
+        warnings.warn(f"{path}: {bad} of {rgb.shape[0] * rgb.shape[1]} pixels are NaN or infinite "
+                      "(NaN written black, ±inf clipped): the render has a problem", NonFiniteWarning,
+                      stacklevel=2)
     path.parent.mkdir(parents=True, exist_ok=True)
-    matplotlib.image.imsave(path, srgb_encode(to_rgb_array(image), exposure_stops))
+    matplotlib.image.imsave(path, encoded)
     return path
 
 

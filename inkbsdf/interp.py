@@ -86,6 +86,7 @@ class Axis:
         if nodes.ndim != 1 or nodes.size < 2 or np.any(np.diff(nodes) <= 0):
             raise ValueError("an interpolation axis needs a strictly increasing grid of ≥ 2 nodes")
         self.size = int(nodes.size)
+        self.key = nodes.tobytes()          # equal grids locate equally (shared by the models)
         self.lo, self.hi = float(nodes[0]), float(nodes[-1])
         step = uniform_step(nodes)
         self.uniform = step is not None

@@ -1,14 +1,16 @@
-"""The ink-on-paper BRDF of DESIGN.md §1, evaluated per lane in Dr.Jit.
+"""One ink table's lookups in Dr.Jit, per lane (the quantities of eq. (4), docs/design.md §1).
 
-    f(ωi, ωo) = c·[ (R(σ, θ, Δφ) + r·T̄(σ)·T̄(θ)/(1 − r·ρ̄)) / π + R_spec(σ)·δ(mirror) ] + (1 − c)·r/π
+`InkModel` interpolates, at located coordinates (`interp.Axis.locate`):
+
+    at_incidence(λ, σ) → R_spec(σ), T̄(σ), R_diff(σ) (or None), ρ̄, τ̄
+    exit_transmittance(λ, θ) → T̄(θ)                  (the σ-indexed column, one function of angle)
+    layer(λ, σ, θ, Δφ) → R(σ, θ, Δφ)                  (tables with a diffuse lobe only)
 
 σ = polar angle of ωi (toward the light), θ = polar angle of ωo (toward the viewer), both in
 Mitsuba's local frame and pointing away from the surface; Δφ = |φi − φo| folded into [0, π]
-(π = mirror, 0 = retro-reflection). c = coverage, r = paper albedo, per lane; every other
-quantity comes from the table at the lane's wavelengths (clamped to the table's range).
-
-`InkModel.incident` computes everything that depends on ωi only (one σ lookup); `diffuse`
-adds what depends on ωo. Divisions are guarded so that no lane ever yields NaN or Inf.
+(π = mirror, 0 = retro-reflection). How the inks of a print and the paper combine these is
+`inkbsdf.mixing`. Every quantity comes from the table at the lane's wavelengths (clamped to
+the table's range). Divisions elsewhere use `safe_div`: no lane ever yields NaN or Inf.
 """
 
 from __future__ import annotations
@@ -50,17 +52,14 @@ def cos_dphi(wi, wo):
 
 
 @dataclass(frozen=True)
-class Incident:
-    """Per-lane quantities fixed by ωi, the wavelengths, coverage c and paper albedo r."""
+class AtIncidence:
+    """One table's Spectrum-valued quantities at the lane's wavelengths and incidence σ."""
 
-    lam: tuple          # located wavelength per Spectrum channel: ((i, t), ...)
-    sig: tuple          # located σ: (i, t)
-    front: object       # Bool: ωi above the surface
-    coupling: object    # Spectrum: c·r·T̄(σ)/(π(1 − r·ρ̄)), multiplies T̄(θ)
-    paper: object       # Spectrum: (1 − c)·r/π
-    specular: object    # Spectrum: c·R_spec(σ), weight of the delta lobe
-    albedo_diffuse: object  # Spectrum: ∫ (smooth part of f) cos θo dωo
-    coverage: object    # Float c
+    r_spec: object          # R_spec(σ)
+    t_in: object            # T̄(σ)
+    r_diff: object | None   # R_diff(σ), None for tables without a diffuse lobe
+    rho: object             # ρ̄
+    tau: object             # τ̄
 
 
 class InkModel:
@@ -78,48 +77,24 @@ class InkModel:
             self.dphi_axis = Axis(lut.dphi_rad)
             self.R_table = NodeTable(lut.R[..., None])                    # [nλ, nσ, nθ, nφ, 1]
 
-    def incident(self, wi, wavelengths, coverage, paper) -> Incident:
-        """Everything that depends on ωi only; `paper` is a Spectrum, `coverage` a Float."""
-        c, r = coverage, paper
-        cos_i = mi.Frame3f.cos_theta(wi)
-        sig = self.sig_axis.locate(dr.safe_acos(cos_i))
-        n = dr.size_v(mi.Spectrum)
-        lam = tuple(self.lam_axis.locate(wavelengths[j]) for j in range(n))
+    def at_incidence(self, lam, sig) -> AtIncidence:
+        """Quantities at located wavelengths `lam` (one (i, t) per channel) and σ `sig`."""
+        n = len(lam)
         cols = [self.sig_table.lerp([lam[j], sig]) for j in range(n)]
         rho_tau = [self.lam_table.lerp([lam[j]]) for j in range(n)]
-        r_spec = spectrum_of([cols[j][0] for j in range(n)])
-        t_in = spectrum_of([cols[j][1] for j in range(n)])
-        rho = spectrum_of([rho_tau[j][0] for j in range(n)])
-        tau = spectrum_of([rho_tau[j][1] for j in range(n)])
-        # r·T̄(σ)/(1 − r·ρ̄): the paper's multiple bounces under the layer (ρ̄ < 1 unless lossless
-        # and totally reflecting, which no table has; guarded anyway).
-        through = safe_div(r * t_in, 1.0 - r * rho)
-        albedo_diffuse = c * (through * tau) + (1.0 - c) * r
-        if self.has_diffuse:
-            albedo_diffuse += c * spectrum_of([cols[j][2] for j in range(n)])
-        return Incident(lam=lam, sig=sig, front=cos_i > 0,
-                        coupling=c * through * dr.inv_pi, paper=(1.0 - c) * r * dr.inv_pi,
-                        specular=c * r_spec, albedo_diffuse=albedo_diffuse, coverage=c)
+        return AtIncidence(
+            r_spec=spectrum_of([cols[j][0] for j in range(n)]),
+            t_in=spectrum_of([cols[j][1] for j in range(n)]),
+            r_diff=spectrum_of([cols[j][2] for j in range(n)]) if self.has_diffuse else None,
+            rho=spectrum_of([rho_tau[j][0] for j in range(n)]),
+            tau=spectrum_of([rho_tau[j][1] for j in range(n)]))
 
-    def spec_probability(self, inc: Incident):
-        """Probability of sampling the delta lobe: mean_λ(c·R_spec) / mean_λ(total albedo)."""
-        spec = lane_mean(inc.specular)
-        return safe_div(spec, spec + lane_mean(inc.albedo_diffuse))
+    def exit_transmittance(self, lam, theta):
+        """T̄(θ) at located wavelengths and exit angle θ located on `sig_axis`."""
+        return spectrum_of([self.sig_table.lerp([lam[j], theta], channels=(1,))[0]
+                            for j in range(len(lam))])
 
-    def diffuse(self, inc: Incident, wi, wo):
-        """Smooth part of f(ωi, ωo)·cos θo (Spectrum); zero unless both directions are above."""
-        cos_o = mi.Frame3f.cos_theta(wo)
-        theta_o = dr.safe_acos(cos_o)
-        theta = self.sig_axis.locate(theta_o)
-        n = dr.size_v(mi.Spectrum)
-        t_out = spectrum_of([self.sig_table.lerp([inc.lam[j], theta], channels=(1,))[0]
-                             for j in range(n)])
-        f = inc.coupling * t_out + inc.paper
-        if self.has_diffuse:
-            loc_t = self.theta_axis.locate(theta_o)
-            loc_p = self.dphi_axis.locate(dr.safe_acos(cos_dphi(wi, wo)))
-            layer = spectrum_of([self.R_table.lerp([inc.lam[j], inc.sig, loc_t, loc_p])[0]
-                                 for j in range(n)])
-            f += inc.coverage * dr.inv_pi * layer
-        valid = inc.front & (cos_o > 0)
-        return dr.select(valid, f * cos_o, 0.0)
+    def layer(self, lam, sig, theta, dphi):
+        """R(σ, θ, Δφ) (π·f of the layer's diffuse lobe); θ and Δφ located on `theta_axis`,
+        `dphi_axis`. Only for tables with a diffuse lobe."""
+        return spectrum_of([self.R_table.lerp([lam[j], sig, theta, dphi])[0] for j in range(len(lam))])

@@ -1,10 +1,14 @@
-"""The `ink` BSDF: a Mitsuba 3 plugin for printed ink on paper (DESIGN.md §1, docs/plugin.md).
+"""The `ink` BSDF: a Mitsuba 3 plugin for printed ink on paper (docs/design.md §1, docs/plugin.md).
 
-Components: 0 = coherent specular reflection of the layer (a delta lobe, c·R_spec(σ)),
-1 = everything smooth (diffuse layer lobe, light through the layer to the paper and back, bare
+One ink (`filename` | `ink`, `coverage`) or up to four printed in order (`filename1` | `ink1`,
+`coverage1`, …), mixed by coverage with Demichel weights over the printed primaries and the
+`coverage_model` (Clapper–Yule by default, or Murray–Davies): `inkbsdf.mixing`.
+
+Components: 0 = coherent specular reflection of the layers (a delta lobe, Σ a_S R_spec,S(σ)),
+1 = everything smooth (diffuse layer lobes, light through the layers to the paper and back, bare
 paper). Front side only; spectral, unpolarized variants only.
 
-Sampling picks the delta lobe with probability P_spec = mean_λ(c·R_spec)/mean_λ(total albedo)
+Sampling picks the delta lobe with probability P_spec = mean_λ(specular)/mean_λ(total albedo)
 per lane and otherwise samples the cosine-weighted hemisphere; `pdf` and `eval` cover component
 1 only, honouring the context's component and type flags.
 """
@@ -14,8 +18,12 @@ from __future__ import annotations
 import drjit as dr
 import mitsuba as mi
 
+from solver.printing import DEFAULT_COVERAGE_MODEL, check_coverage_model, possible_primaries, stack_order
+from .coverage import coverage_support
+from .errors import InkParameterError, plugin_factory
+from .inks import load_inks, numbered_inks, stack_lut
+from .mixing import PrintModel
 from .model import InkModel
-from .source import load_table
 from .variant import check_variant
 
 PLUGIN_NAME = "ink"
@@ -50,27 +58,63 @@ def model_for(lut):
     return hit[1]
 
 
+def coverage_names(props) -> list[str]:
+    """`coverage` for the single-ink form, `coverage1` … `coveragek` for k numbered inks."""
+    numbers = numbered_inks(props)
+    return [f"coverage{n}" for n in numbers] if numbers else ["coverage"]
+
+
 def _define_class():
     class InkBSDF(mi.BSDF):
         def __init__(self, props):
             mi.BSDF.__init__(self, props)
-            self.lut = load_table(props)
-            self.model = model_for(self.lut)
+            try:
+                self.coverage_model = check_coverage_model(
+                    str(props.get("coverage_model", DEFAULT_COVERAGE_MODEL)))
+            except ValueError as exc:
+                raise InkParameterError(f"ink BSDF: {exc}") from None
+            self.coverage_names = coverage_names(props)
+            self.inks = load_inks(props)
+            self.lut = self.inks[0].lut
             self.paper = props.get_texture("paper", DEFAULT_PAPER_ALBEDO)
-            self.coverage = props.get_texture("coverage", DEFAULT_COVERAGE)
+            self.coverages = [props.get_texture(name, DEFAULT_COVERAGE) for name in self.coverage_names]
+            self._stacks = {}
+            self.primaries = None
+            self._update_primaries()
             delta = mi.BSDFFlags.DeltaReflection | mi.BSDFFlags.FrontSide
             smooth = mi.BSDFFlags.DiffuseReflection | mi.BSDFFlags.FrontSide
-            if self.paper.is_spatially_varying() or self.coverage.is_spatially_varying():
+            if self.paper.is_spatially_varying() or any(c.is_spatially_varying() for c in self.coverages):
                 smooth = smooth | mi.BSDFFlags.SpatiallyVarying
                 delta = delta | mi.BSDFFlags.SpatiallyVarying
             self.m_components = [delta, smooth]
             self.m_flags = delta | smooth
 
         # -------------------------------------------------------------- helpers
+        def _update_primaries(self):
+            """Decide which printed primaries can occur (from the coverages' data) and build
+            the lane model; stack tables come from the provider, once per stack."""
+            if len(self.inks) == 1:
+                primaries = ((), (0,))
+            else:
+                primaries = possible_primaries([coverage_support(t) for t in self.coverages])
+            if primaries == self.primaries:
+                return
+            luts = []
+            for subset in (s for s in primaries if s):
+                if len(subset) == 1:
+                    luts.append((subset, self.inks[subset[0]].lut))
+                    continue
+                if subset not in self._stacks:
+                    self._stacks[subset] = stack_lut(tuple(self.inks[i] for i in stack_order(subset)))
+                luts.append((subset, self._stacks[subset]))
+            self.model = PrintModel([(s, model_for(lut)) for s, lut in luts], len(self.inks),
+                                    self.coverage_model)
+            self.primaries = primaries
+
         def _incident(self, si, active):
-            c = _clamp01(self.coverage.eval_1(si, active))
+            cov = [_clamp01(t.eval_1(si, active)) for t in self.coverages]
             r = _clamp01(mi.Spectrum(self.paper.eval(si, active)))
-            return self.model.incident(si.wi, si.wavelengths, c, r)
+            return self.model.incident(si.wi, si.wavelengths, cov, r)
 
         def _spec_prob(self, ctx, inc):
             """Probability that sample() picks the delta lobe, given the enabled lobes."""
@@ -132,11 +176,20 @@ def _define_class():
 
         def traverse(self, callback):
             callback.put("paper", self.paper, mi.ParamFlags.Differentiable)
-            callback.put("coverage", self.coverage, mi.ParamFlags.Differentiable)
+            for name, texture in zip(self.coverage_names, self.coverages):
+                callback.put(name, texture, mi.ParamFlags.Differentiable)
+
+        def parameters_changed(self, keys=()):
+            if any(str(k).startswith("coverage") for k in keys) or not keys:
+                self._update_primaries()
 
         def to_string(self):
-            return (f"InkBSDF[table={self.lut.source!r}, diffuse_layer={self.lut.has_diffuse}, "
-                    f"paper={self.paper}, coverage={self.coverage}]")
+            tables = ", ".join(repr(ink.lut.source) for ink in self.inks)
+            stacks = ", ".join("/".join(str(i + 1) for i in stack_order(s)) for s in self.primaries
+                               if len(s) > 1)
+            return (f"InkBSDF[tables=[{tables}], coverage_model={self.coverage_model}, "
+                    f"stacks=[{stacks}], paper={self.paper}, "
+                    f"coverage=[{', '.join(str(c) for c in self.coverages)}]]")
 
     return InkBSDF
 
@@ -155,5 +208,5 @@ def register() -> str:
     Call again after `mitsuba.set_variant`: Mitsuba's plugin registry is per variant.
     """
     cls = bsdf_class()
-    mi.register_bsdf(PLUGIN_NAME, lambda props: cls(props))
+    mi.register_bsdf(PLUGIN_NAME, plugin_factory(cls))    # bad input: a short error (inkbsdf/errors.py)
     return mi.variant()

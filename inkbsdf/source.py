@@ -23,35 +23,87 @@ def resolve_path(filename: str) -> Path:
     return Path(str(resolved))
 
 
-#: Scene parameters of an in-scene ink (instead of `filename`) → TableRequest fields.
-REQUEST_PARAMS = {"ink": ("ink", str), "particles": ("particles", str),
-                  "thickness": ("thickness_nm", float), "realizations": ("realizations", int),
-                  "tolerance": ("tolerance", float), "seed": ("seed", int), "tier": ("tier", str)}
+#: Scene parameters of an in-scene ink (instead of `filename`) → `table_request` arguments.
+REQUEST_PARAMS = {"ink": "ink", "particles": "particles", "thickness": "thickness_nm",
+                  "accuracy": "accuracy", "polarisation": "polarisation", "realizations": "realizations",
+                  "tolerance": "tolerance", "seed": "seed", "tier": "tier"}
+_INTEGER_PARAMS = ("realizations", "seed", "workers")
+
+#: worker processes for tables that scene loads build (set by `set_build_workers`)
+_build_workers: int | None = None
+
+
+def _prop(props, name: str):
+    """A scene parameter's value, integers checked (Mitsuba gives XML ints as int, floats as float)."""
+    value = props.get(name)
+    if name in _INTEGER_PARAMS and not (isinstance(value, int) and not isinstance(value, bool)):
+        raise TableError(f"ink BSDF: parameter '{name}' must be an integer, got {value!r}")
+    return value
 
 
 def table_request(props):
     """The TableRequest described by an `ink=...` BSDF (see REQUEST_PARAMS)."""
-    from solver.table.request import TableRequest
+    from solver.table.request import table_request as make_request
 
-    kwargs = {field: kind(props.get(name)) for name, (field, kind) in REQUEST_PARAMS.items() if name in props}
-    return TableRequest(**kwargs)
+    kwargs = {arg: _prop(props, name) for name, arg in REQUEST_PARAMS.items() if name in props}
+    return make_request(kwargs.pop("ink"), kwargs.pop("particles", "molecular"), **kwargs)
+
+
+def set_build_workers(workers: int | None) -> None:
+    """Worker processes for tables that scene loads in this process build (None: back to
+    $INKBSDF_WORKERS, else 1).  `python -m inkbsdf.render` sets it from --workers."""
+    global _build_workers
+    if workers is not None and (not isinstance(workers, int) or workers < 1):
+        raise ValueError(f"workers must be an integer ≥ 1, got {workers!r}")
+    _build_workers = workers
+
+
+def main_is_guarded() -> bool:
+    """False when the running script has no `if __name__ == "__main__":` guard: spawned pool
+    workers re-run a script's top level, so such a script must build in one process."""
+    import __main__
+    import re
+
+    path = getattr(__main__, "__file__", None)
+    if path is None:
+        return True                         # interactive: nothing is re-run in a spawned worker
+    try:
+        text = Path(path).read_text(errors="replace")
+    except OSError:
+        return True
+    return re.search(r"__name__\s*==\s*['\"]__main__['\"]", text) is not None
 
 
 def build_workers(props) -> int:
     """Worker processes for a table built during a scene load: the `workers` parameter, else
-    $INKBSDF_WORKERS, else 1 (in the loading process).
+    `set_build_workers(...)`, else $INKBSDF_WORKERS, else 1 (in the loading process).
 
     Not one per core as for `ink-tables build`: workers are spawned, and spawning re-runs the
     calling script's top level; a script that loads a scene without an
-    `if __name__ == "__main__":` guard would load it again in every worker.
-    `python -m inkbsdf.render` is guarded and sets $INKBSDF_WORKERS to its `--workers`.
+    `if __name__ == "__main__":` guard would load it again in every worker — detected, and
+    such a script builds in one process with a warning.
     """
     if "workers" in props:
-        return max(1, int(props.get("workers")))
-    try:
-        return max(1, int(os.environ.get("INKBSDF_WORKERS", "1")))
-    except ValueError:
-        raise TableError(f"$INKBSDF_WORKERS={os.environ['INKBSDF_WORKERS']!r} is not an integer") from None
+        workers = _prop(props, "workers")
+        if workers < 1:
+            raise TableError(f"ink BSDF: parameter 'workers' must be ≥ 1, got {workers}")
+    elif _build_workers is not None:
+        workers = _build_workers
+    else:
+        text = os.environ.get("INKBSDF_WORKERS", "1")
+        try:
+            workers = int(text)
+        except ValueError:
+            raise TableError(f"$INKBSDF_WORKERS={text!r} is not an integer: set it to a number of "
+                             "worker processes, e.g. 2") from None
+        workers = max(1, workers)
+    if workers > 1 and not main_is_guarded():
+        import warnings
+
+        warnings.warn("inkbsdf: this script has no `if __name__ == \"__main__\":` guard, so table "
+                      "workers cannot be spawned safely; building in one process", stacklevel=2)
+        workers = 1
+    return workers
 
 
 def show_build_log() -> None:
@@ -82,7 +134,9 @@ def load_table(props) -> InkLUT:
 
         try:
             request = table_request(props)
-        except ValueError as exc:
+        except TableError:
+            raise
+        except ValueError as exc:       # RequestError, InkSpecError, ParticleSpecError
             raise TableError(f"ink BSDF: {exc}") from None
         cache = TableCache(Path(str(props.get("cache")))) if "cache" in props else TableCache.default()
         show_build_log()

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .materials import binder_eps, get_pigment, pigment_eps
+from .materials import MaterialData, base_parts, default_materials, get_pigment
 
 
 class InkSpecError(ValueError):
@@ -39,6 +39,15 @@ class Ink:
             return "clear"
         return "+".join(f"{code}{_fmt_percent(f)}" for code, f in self.components)
 
+    def base_composition(self) -> tuple[tuple[str, float], ...]:
+        """Volume fractions of the base pigments, mixes such as G expanded (G30 → Y15 + B15),
+        rounded to 1e-12 and sorted: two inks with equal base composition are one material."""
+        total: dict[str, float] = {}
+        for code, fraction in self.components:
+            for base, weight in base_parts(code):
+                total[base] = total.get(base, 0.0) + fraction * weight
+        return tuple(sorted((c, round(f, 12)) for c, f in total.items()))
+
 
 def _fmt_percent(fraction: float) -> str:
     return f"{100.0 * fraction:.6g}"
@@ -47,8 +56,10 @@ def _fmt_percent(fraction: float) -> str:
 _TERM = re.compile(r"^([A-Za-z]+)\s*(-?[0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)\s*%?$")
 
 
-def parse_ink(spec: str) -> Ink:
-    """Parse an ink spec string; raise InkSpecError naming the problem."""
+def parse_ink(spec: "str | Ink") -> Ink:
+    """Parse an ink spec string (an Ink passes through); raise InkSpecError naming the problem."""
+    if isinstance(spec, Ink):
+        return spec
     if not isinstance(spec, str) or not spec.strip():
         raise InkSpecError("empty ink spec: expected e.g. 'R15', 'Y7.5+B7.5', 'G30' or 'clear'")
     text = spec.strip()
@@ -77,10 +88,11 @@ def parse_ink(spec: str) -> Ink:
     return Ink(tuple((c, f) for c, f in components.items() if f > 0.0))
 
 
-def molecular_eps(ink: Ink, wavelength_nm) -> np.ndarray:
+def molecular_eps(ink: Ink, wavelength_nm, materials: MaterialData | None = None) -> np.ndarray:
     """Permittivity of the ink as one homogeneous material (linear volume-weighted ε)."""
+    data = materials or default_materials()
     wl = np.asarray(wavelength_nm, dtype=float)
-    eps = (1.0 - ink.total_fraction) * binder_eps(wl)
+    eps = (1.0 - ink.total_fraction) * data.binder_eps(wl)
     for code, fraction in ink.components:
-        eps = eps + fraction * pigment_eps(code, wl)
+        eps = eps + fraction * data.pigment_eps(code, wl)
     return eps

@@ -1,16 +1,24 @@
-"""Optical constants of the binder and the pigments (DESIGN.md §1–§2).
+"""Optical constants of the binder and the pigments (docs/design.md §2).
 
 Binder: transparent, index 1.558, no dispersion.  Pigments R, Y, B: Re(η) = 1.4 and k(λ) from
 the package's derived spectra (`solver/data/pigments_k.csv`, see `derive_pigments.py` for the
 sources).  Green G is a *molecular* mix of Blue and Yellow: one material whose permittivity is
-ε_G = (ε_Y + ε_B)/2.  Wavelengths outside 360–830 nm clamp to the end values.
+ε_G = (ε_Y + ε_B)/2.
+
+Everything that sets a number lives in one `MaterialData` value (constants and spectra) with a
+`fingerprint`: a table request carries the data it is computed from, and its cache key includes
+the fingerprint, so editing the spectra or the constants can never serve an old table.
+Wavelengths outside the data's range are refused by the request (`MaterialData.check_range`);
+the plugin clamps at render time.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import hashlib
+from dataclasses import dataclass, field
 from functools import lru_cache
 from importlib import resources
+from pathlib import Path
 
 import numpy as np
 
@@ -33,6 +41,8 @@ PIGMENTS: dict[str, Pigment] = {
     "B": Pigment("B", "blue", "ZZ50 / c-PCPDTBT film, k_iso=(2k_o+k_e)/3 (Kamptner et al. 2024)"),
     "G": Pigment("G", "green", "molecular mix: eps_G = (eps_Y + eps_B)/2", (("Y", 0.5), ("B", 0.5))),
 }
+#: column of each base pigment in the spectra file
+_K_COLUMNS = {"R": 1, "Y": 2, "B": 3}
 
 # Display colours for pictures of the geometry (sRGB 0–1).
 PIGMENT_DISPLAY_RGB = {"R": (0.85, 0.1, 0.45), "Y": (0.95, 0.85, 0.1),
@@ -52,30 +62,99 @@ def get_pigment(code: str) -> Pigment:
             + ", ".join(f"{p.code} ({p.name})" for p in PIGMENTS.values())) from None
 
 
-@lru_cache(maxsize=1)
-def _k_table() -> tuple[np.ndarray, dict[str, np.ndarray]]:
-    text = resources.files("solver.data").joinpath("pigments_k.csv").read_text()
+def base_parts(code: str) -> tuple[tuple[str, float], ...]:
+    """The base pigments (with ε weights) a pigment code stands for: G → Y ½ + B ½; R → R 1."""
+    return get_pigment(code).parts or ((code, 1.0),)
+
+
+@dataclass(frozen=True, eq=False)
+class MaterialData:
+    """Binder and pigment constants and k(λ) spectra; `fingerprint` identifies the numbers."""
+
+    binder_index: float
+    pigment_real_index: float
+    wavelengths_nm: np.ndarray = field(repr=False)          # [n] strictly increasing
+    k: dict = field(repr=False)                             # base code → k [n]
+    source: str = "package data"
+
+    @property
+    def fingerprint(self) -> str:
+        h = hashlib.sha256()
+        h.update(repr((float(self.binder_index), float(self.pigment_real_index),
+                       sorted((c, p.parts) for c, p in PIGMENTS.items()))).encode())
+        h.update(np.ascontiguousarray(self.wavelengths_nm, dtype=np.float64).tobytes())
+        for code in sorted(self.k):
+            h.update(code.encode() + np.ascontiguousarray(self.k[code], dtype=np.float64).tobytes())
+        return h.hexdigest()[:16]
+
+    def __eq__(self, other) -> bool:
+        return isinstance(other, MaterialData) and other.fingerprint == self.fingerprint
+
+    def __hash__(self) -> int:
+        return hash(self.fingerprint)
+
+    @property
+    def range_nm(self) -> tuple[float, float]:
+        return float(self.wavelengths_nm[0]), float(self.wavelengths_nm[-1])
+
+    def check_range(self, wavelengths_nm, what: str = "wavelengths") -> None:
+        """Raise ValueError when a wavelength lies outside the spectra (no silent clamping)."""
+        wl = np.asarray(wavelengths_nm, dtype=float)
+        lo, hi = self.range_nm
+        if wl.size and (wl.min() < lo - 1e-9 or wl.max() > hi + 1e-9):
+            raise ValueError(f"{what} {wl.min():g}–{wl.max():g} nm lie outside the pigment data "
+                             f"({lo:g}–{hi:g} nm); choose wavelengths inside it")
+
+    def binder_eps(self, wavelength_nm) -> np.ndarray:
+        """Relative permittivity of the binder (no dispersion)."""
+        return np.full(np.shape(wavelength_nm), self.binder_index**2, dtype=complex)
+
+    def pigment_k(self, code: str, wavelength_nm) -> np.ndarray:
+        """k(λ) of a base pigment (R, Y, B); clamped outside the data (the request refuses that)."""
+        if code not in self.k:
+            raise ValueError(f"pigment {code!r} has no tabulated k (it is a mix); use pigment_eps")
+        return np.interp(np.asarray(wavelength_nm, dtype=float), self.wavelengths_nm, self.k[code])
+
+    def pigment_eps(self, code: str, wavelength_nm) -> np.ndarray:
+        """Relative permittivity ε = η² of a pigment (mixes ε-weighted) at λ in nm."""
+        pig = get_pigment(code)
+        if pig.parts:
+            return sum(w * self.pigment_eps(c, wavelength_nm) for c, w in pig.parts)
+        return (self.pigment_real_index + 1j * self.pigment_k(code, wavelength_nm)) ** 2
+
+
+def load_material_data(path: str | Path | None = None) -> MaterialData:
+    """Read a spectra file (default: the package's `solver/data/pigments_k.csv`)."""
+    if path is None:
+        text = resources.files("solver.data").joinpath("pigments_k.csv").read_text()
+        source = "package data"
+    else:
+        text = Path(path).read_text()
+        source = str(path)
     data = np.loadtxt(text.splitlines(), delimiter=",", comments="#", skiprows=3)
     wl = data[:, 0]
-    return wl, {"R": data[:, 1], "Y": data[:, 2], "B": data[:, 3]}
+    if wl.size < 2 or np.any(np.diff(wl) <= 0) or not np.all(np.isfinite(data)):
+        raise ValueError(f"{source}: pigment spectra must be finite with increasing wavelengths")
+    return MaterialData(BINDER_INDEX, PIGMENT_REAL_INDEX, wl,
+                        {c: data[:, i] for c, i in _K_COLUMNS.items()}, source)
+
+
+@lru_cache(maxsize=1)
+def default_materials() -> MaterialData:
+    """The package's material data (read once)."""
+    return load_material_data()
 
 
 def binder_eps(wavelength_nm) -> np.ndarray:
-    """Relative permittivity of the binder (no dispersion)."""
-    return np.full(np.shape(wavelength_nm), BINDER_INDEX**2, dtype=complex)
+    """Binder permittivity from the package data."""
+    return default_materials().binder_eps(wavelength_nm)
 
 
 def pigment_k(code: str, wavelength_nm) -> np.ndarray:
-    """Extinction coefficient k(λ) of a base pigment (R, Y, B), clamped outside 360–830 nm."""
-    wl, table = _k_table()
-    if code not in table:
-        raise ValueError(f"pigment {code!r} has no tabulated k (it is a mix); use pigment_eps")
-    return np.interp(np.asarray(wavelength_nm, dtype=float), wl, table[code])
+    """k(λ) of a base pigment from the package data."""
+    return default_materials().pigment_k(code, wavelength_nm)
 
 
 def pigment_eps(code: str, wavelength_nm) -> np.ndarray:
-    """Relative permittivity ε = η² of a pigment at the given wavelengths (nm)."""
-    pig = get_pigment(code)
-    if pig.parts:
-        return sum(w * pigment_eps(c, wavelength_nm) for c, w in pig.parts)
-    return (PIGMENT_REAL_INDEX + 1j * pigment_k(code, wavelength_nm)) ** 2
+    """Pigment permittivity from the package data."""
+    return default_materials().pigment_eps(code, wavelength_nm)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 THICKNESS_NM = 1000.0
@@ -102,6 +104,19 @@ def surface_interaction(mi, wi, wavelengths_nm):
     si.wavelengths = mi.Spectrum(*[mi.Float(c) for c in np.asarray(wavelengths_nm, dtype=np.float64)])
     si.sh_frame = mi.Frame3f(mi.Vector3f(0, 0, 1))
     return si
+
+
+def process_group(pgid: int) -> list[str]:
+    """Command lines of the live (non-zombie) processes in a process group (Linux /proc)."""
+    found = []
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+            if int(fields[2]) == pgid and fields[0] != "Z":
+                found.append((stat.parent / "cmdline").read_bytes().replace(b"\0", b" ").decode()[:120])
+        except (OSError, IndexError, ValueError):
+            continue
+    return found
 
 
 def ink_bsdf(mi, path, paper=0.9, coverage=1.0):

@@ -1,19 +1,35 @@
-"""Energy of the `ink` BSDF: white furnace (by sampling and by quadrature), ≤ 1 for every ink."""
+"""Energy of the `ink` BSDF: white furnace (by sampling and by quadrature), ≤ 1 for every ink,
+for both coverage models."""
 
 import numpy as np
 import pytest
 
-from conftest import ink_bsdf, surface_interaction
+from conftest import surface_interaction
 from inkbsdf.demo_tables import DEMO_INKS, build_tables
 from inkbsdf.lut import load_lut
 from solver.table import read_table
 from solver.table.evaluate import directional_albedo as table_albedo
 
 
-def directional_albedo(path, paper, coverage=1.0):
-    """Exact total reflectance c·[R_spec + R_diff + r·Tbar·τ̄/(1−rρ̄)] + (1−c)·r at the σ nodes."""
+CY, MD = "clapper-yule", "murray-davies"
+
+
+def ink_bsdf(mi, path, paper=0.9, coverage=1.0, model=CY):
+    return mi.load_dict({"type": "ink", "filename": str(path), "paper": paper, "coverage": coverage,
+                         "coverage_model": model})
+
+
+def directional_albedo(path, paper, coverage=1.0, model=MD):
+    """Exact total reflectance at the σ nodes. Murray–Davies: c·[R_spec + R_diff + r·Tbar·τ̄/(1−rρ̄)]
+    + (1−c)·r; Clapper–Yule: c·[R_spec + R_diff] + r·(c·Tbar + 1−c)(c·τ̄ + 1−c)/(1 − r·c·ρ̄)."""
     table = read_table(path)
-    return coverage * table_albedo(table, paper, table.sigma) + (1.0 - coverage) * paper
+    if model == MD:
+        return coverage * table_albedo(table, paper, table.sigma) + (1.0 - coverage) * paper
+    lut = load_lut(path)
+    c = coverage
+    paper_term = (paper * (c * lut.Tbar + 1 - c) * (c * lut.tau_bar + 1 - c)[:, None]
+                  / (1 - paper * c * lut.rho_bar)[:, None])
+    return c * (lut.R_spec + lut.R_diff) + paper_term
 
 
 FURNACE_ANGLES_DEG = (0.0, 20.0, 40.0, 60.0, 80.0)
@@ -79,7 +95,9 @@ def odd_grid_tables(tmp_path_factory):
 @pytest.mark.parametrize("deg", FURNACE_ANGLES_DEG)
 @pytest.mark.parametrize("which", ["clear", "clear_odd", "lossless", "clear_half_covered"])
 def test_white_furnace_by_sampling(use_variant, ink_tables, diffuse_tables, odd_grid_tables, which, deg):
-    """A lossless layer on white paper (r = 1) reflects exactly 1 at every incidence 0–80°."""
+    """A lossless layer on white paper (r = 1) reflects exactly 1 at every incidence 0–80°
+    (half covered: Clapper–Yule, the default; its paper term r(cT̄+1−c)(cτ̄+1−c)/(1−rcρ̄) is
+    (cT̄+1−c) when ρ̄ = 1 − τ̄, so the total is c(R̄ + T̄) + 1 − c = 1)."""
     mi = use_variant("llvm_ad_spectral")
     path = {"clear": ink_tables["clear"], "clear_half_covered": ink_tables["clear"],
             "clear_odd": odd_grid_tables, "lossless": diffuse_tables["lossless"]}[which]
@@ -91,15 +109,16 @@ def test_white_furnace_by_sampling(use_variant, ink_tables, diffuse_tables, odd_
     assert abs(mean - 1.0) < 4.5 * err + 1e-4, (mean, err)
 
 
+@pytest.mark.parametrize("model", [CY, MD])
 @pytest.mark.parametrize("which", ["clear", "lossless", "absorbing", "R30"])
-def test_albedo_quadrature_matches_exact(use_variant, ink_tables, diffuse_tables, which):
-    """∫ eval dω + c·R_spec equals the closed form c·[R_spec + R_diff + r·Tbar·τ̄/(1−rρ̄)] + (1−c)r."""
+def test_albedo_quadrature_matches_exact(use_variant, ink_tables, diffuse_tables, which, model):
+    """∫ eval dω + c·R_spec equals the closed form of the coverage model (directional_albedo)."""
     mi = use_variant("llvm_ad_spectral")
     path = {**ink_tables, **diffuse_tables}[which]
     lut = load_lut(path)
-    paper, coverage = 0.8, 0.9
-    bsdf = ink_bsdf(mi, path, paper=paper, coverage=coverage)
-    exact_nodes = directional_albedo(path, paper, coverage)
+    paper, coverage = 0.8, 0.6
+    bsdf = ink_bsdf(mi, path, paper=paper, coverage=coverage, model=model)
+    exact_nodes = directional_albedo(path, paper, coverage, model)
     lam_idx = np.round(np.linspace(1, lut.wavelengths_nm.size - 2, 4)).astype(int)
     for s_idx in (0, lut.sigma_rad.size // 3, (2 * lut.sigma_rad.size) // 3):
         deg = np.degrees(lut.sigma_rad[s_idx])
@@ -108,10 +127,13 @@ def test_albedo_quadrature_matches_exact(use_variant, ink_tables, diffuse_tables
 
 
 def test_exact_furnace_of_lossless_tables(ink_tables, diffuse_tables):
-    """The load-time integrals make a lossless layer on white paper reflect 1 at every node."""
+    """The load-time integrals make a lossless layer on white paper reflect 1 at every node,
+    at any coverage with either model."""
     for path in (ink_tables["clear"], diffuse_tables["lossless"]):
-        albedo = directional_albedo(path, paper=1.0)
-        np.testing.assert_allclose(albedo, 1.0, atol=1e-9)
+        for coverage in (1.0, 0.5, 0.2):
+            for model in (CY, MD):
+                albedo = directional_albedo(path, paper=1.0, coverage=coverage, model=model)
+                np.testing.assert_allclose(albedo, 1.0, atol=1e-9)
     assert directional_albedo(diffuse_tables["absorbing"], paper=1.0).max() < 0.99
 
 
@@ -120,9 +142,10 @@ def test_energy_at_most_one(use_variant, tmp_path, ink):
     """Every ink on white or 0.9 paper reflects at most 1, at every incidence, by sampling too."""
     mi = use_variant("llvm_ad_spectral")
     path = build_tables(tmp_path, [ink])[ink]
-    for paper in (1.0, 0.9):
-        assert directional_albedo(path, paper).max() <= 1.0 + 1e-9
-        bsdf = ink_bsdf(mi, path, paper=paper)
+    for paper, coverage in ((1.0, 1.0), (0.9, 1.0), (1.0, 0.5)):
+        for model in (CY, MD):
+            assert directional_albedo(path, paper, coverage, model).max() <= 1.0 + 1e-9
+        bsdf = ink_bsdf(mi, path, paper=paper, coverage=coverage)
         lam = np.random.default_rng(5).uniform(360.0, 830.0, size=(4, 1 << 15))
         for deg in (0.0, 45.0, 85.0):
             mean, err = sampled_albedo(mi, bsdf, deg, lam)

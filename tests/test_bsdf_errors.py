@@ -2,6 +2,7 @@
 
 import json
 import zipfile
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -118,3 +119,133 @@ def test_scene_load_workers_parameter_then_environment_then_one(monkeypatch):
     monkeypatch.setenv("INKBSDF_WORKERS", "many")
     with pytest.raises(TableError, match="INKBSDF_WORKERS='many'"):
         build_workers({})
+
+
+# ------------------------------------------- library use: the cause first, not a traceback
+def _load_from_depth(mi, spec, depth):
+    """mi.load_dict called `depth` Python frames deep; return the error message."""
+    if depth:
+        return _load_from_depth(mi, spec, depth - 1)
+    with pytest.raises(RuntimeError) as info:
+        mi.load_dict(spec)
+    return str(info.value)
+
+
+@pytest.mark.parametrize("params,needle", [
+    ({"paper": "white"}, "InkParameterError: ink BSDF: parameter 'paper' is a string, not a float"),
+    ({"coverage": "full"}, "InkParameterError: ink BSDF: parameter 'coverage' is a string"),
+    ({"ink": "R30", "thickness": "thick"}, "InkParameterError: ink BSDF: parameter 'thickness' 'thick' is not "
+                                           "a number"),          # said as a scene parameter, not --thickness
+    ({"ink": "R30", "accuracy": "best"}, "InkParameterError: ink BSDF: parameter 'accuracy' 'best': choose one of"),
+    ({"ink": "R30", "workers": "two"}, "TableError: ink BSDF: parameter 'workers' must be an integer"),
+    ({"filename": "nowhere.npz"}, "TableError: nowhere.npz: table file not found"),
+])
+def test_library_error_is_short_with_the_cause_and_fix(use_variant, ink_tables, params, needle):
+    """mi.load_dict with a bad parameter: Mitsuba's message ends, on its third line, with the
+    cause naming the parameter and how to write it, however deep the caller's stack is (Mitsuba
+    embeds a traceback of every caller otherwise)."""
+    mi = use_variant("llvm_ad_spectral")
+    spec = {"type": "ink", "filename": str(ink_tables["R30"]), **params}
+    if "ink" in params:
+        del spec["filename"]
+    shallow, deep = (_load_from_depth(mi, spec, d) for d in (0, 40))
+    for msg in (shallow, deep):
+        lines = msg.splitlines()
+        assert len(lines) == 3, msg
+        assert lines[0].endswith("Traceback (most recent call last):")
+        assert lines[2].startswith(needle), msg
+        assert "_load_from_depth" not in msg
+    if "paper" in params:
+        assert 'write e.g. <float name="paper" value=' in deep       # the fix: how to write it
+    assert "--" not in deep                                          # no ink-tables option names
+
+
+def test_unusable_cache_names_the_setting(use_variant, ink_tables, tmp_path, monkeypatch):
+    """A cache that is a file, or a read-only folder: which setting chose it, and the fix."""
+    import os
+    import tempfile
+
+    mi = use_variant("llvm_ad_spectral")
+    with pytest.raises(RuntimeError, match=r"CacheError: cache .*R30\.npz is a file, not a folder"):
+        mi.load_dict({"type": "ink", "ink": "R30", "cache": str(ink_tables["R30"])})
+    read_only = tmp_path / "ro"
+    read_only.mkdir()
+    read_only.chmod(0o555)
+    if os.geteuid() == 0:                  # root ignores permission bits
+        read_only = Path("/sys")
+    with pytest.raises(OSError):
+        tempfile.mkstemp(dir=read_only)
+    monkeypatch.setenv("INKBSDF_CACHE", str(read_only / "inkbsdf"))
+    try:
+        with pytest.raises(RuntimeError, match=r"\$INKBSDF_CACHE .*inkbsdf cannot be created .*choose a "
+                                               r"writable folder with parameter 'cache' or \$INKBSDF_CACHE"):
+            mi.load_dict({"type": "ink", "ink": "G30"})
+    finally:
+        (tmp_path / "ro").chmod(0o755)
+
+
+def test_bug_in_the_constructor_keeps_its_traceback(use_variant):
+    """Only input errors are shortened: a bug still shows where it happened."""
+    from inkbsdf.errors import plugin_factory
+
+    mi = use_variant("llvm_ad_spectral")
+
+    def broken_constructor(props):
+        return 1 / 0
+
+    mi.register_bsdf("ink_test_bug", plugin_factory(broken_constructor))
+    with pytest.raises(RuntimeError) as info:
+        mi.load_dict({"type": "ink_test_bug"})
+    assert "ZeroDivisionError" in str(info.value) and "broken_constructor" in str(info.value)
+
+
+def test_loader_problem_is_one_line_naming_where_and_what(use_variant, ink_tables, tmp_path):
+    """Mitsuba's messages, read back for the command line: file and line, then the cause."""
+    from inkbsdf.errors import loader_problem
+
+    mi = use_variant("llvm_ad_spectral")
+    scenes = {
+        "paper": ('<float name="paper" value="0.5"/><string name="coverage" value="x"/>',
+                  "parameter 'coverage' is a string"),
+        "unknown": ('<float name="papr" value="0.5"/>',
+                    "the bsdf plugin \"ink\" takes no parameter 'papr' (float 0.5): remove it or correct its name"),
+    }
+    for name, (extra, needle) in scenes.items():
+        path = tmp_path / f"{name}.xml"
+        path.write_text(SCENE.format(name=ink_tables["R30"]).replace("</bsdf>", extra + "</bsdf>"))
+        with pytest.raises(RuntimeError) as info:
+            mi.load_file(str(path))
+        line = loader_problem(info.value)
+        assert "\n" not in line and "Traceback" not in line and "parser.cpp" not in line
+        assert line.startswith(f"{path} (line 2, col ") and needle in line, line
+
+
+# ----------------------------------------------------------------------------- variants
+@pytest.mark.parametrize("variant,advice", [("llvm_ad_spectral_polarized", "'llvm_ad_spectral'"),
+                                            ("scalar_spectral_polarized", "'scalar_spectral'"),
+                                            ("llvm_ad_mono_polarized", "'llvm_ad_spectral'"),
+                                            ("cuda_ad_rgb", "'cuda_ad_spectral'")])
+def test_variant_refusal_says_which_variant_to_use(variant, advice):
+    import inkbsdf
+
+    with pytest.raises(inkbsdf.VariantError, match=advice):
+        inkbsdf.check_variant(variant)
+
+
+def test_usable_variants_and_selection():
+    import mitsuba as mi
+
+    import inkbsdf
+    from inkbsdf.variant import select_variant, usable_variants
+
+    usable = usable_variants()
+    assert "llvm_ad_spectral" in usable and "scalar_spectral" in usable
+    for variant in usable:
+        assert inkbsdf.check_variant(variant) == variant
+    assert not any("rgb" in v or "mono" in v or "polarized" in v for v in usable)
+    previous = mi.variant()
+    with pytest.raises(inkbsdf.VariantError, match="'bogus' is not a variant.*llvm_ad_spectral"):
+        select_variant("bogus")
+    with pytest.raises(inkbsdf.VariantError, match="unpolarized"):
+        select_variant("scalar_spectral_polarized")
+    assert mi.variant() == previous                 # a refused variant is not set

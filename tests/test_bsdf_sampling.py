@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from scipy.interpolate import RegularGridInterpolator
 
-from conftest import ink_bsdf, surface_interaction
+from conftest import surface_interaction
 from inkbsdf.lut import load_lut
 
 
@@ -35,30 +35,41 @@ def chi2_adapter(mi, bsdf, wi, wavelengths_nm, ctx=None):
     return sample, pdf
 
 
-CHI2_CASES = [  # (ink, incidence °, wavelengths nm, paper, coverage)
-    ("clear", 10.0, (400.0, 455.0, 530.0, 690.0), 0.9, 1.0),
-    ("clear", 75.0, (365.0, 480.0, 610.0, 825.0), 1.0, 1.0),      # grazing, P_spec large
-    ("R30", 45.0, (420.0, 505.0, 580.0, 650.0), 0.9, 0.7),
-    ("B30", 60.0, (390.0, 470.0, 560.0, 720.0), 0.5, 1.0),
-    ("lossless", 30.0, (410.0, 500.0, 600.0, 700.0), 0.9, 1.0),
-    ("absorbing", 70.0, (380.0, 550.0, 620.0, 780.0), 0.9, 0.4),
+CY, MD = "clapper-yule", "murray-davies"
+
+
+def ink_bsdf(mi, path, paper=0.9, coverage=1.0, model=CY):
+    return mi.load_dict({"type": "ink", "filename": str(path), "paper": paper, "coverage": coverage,
+                         "coverage_model": model})
+
+
+CHI2_CASES = [  # (ink, incidence °, wavelengths nm, paper, coverage, coverage model)
+    ("clear", 10.0, (400.0, 455.0, 530.0, 690.0), 0.9, 1.0, CY),
+    ("clear", 75.0, (365.0, 480.0, 610.0, 825.0), 1.0, 1.0, CY),      # grazing, P_spec large
+    ("R30", 45.0, (420.0, 505.0, 580.0, 650.0), 0.9, 0.7, CY),
+    ("R30", 45.0, (420.0, 505.0, 580.0, 650.0), 0.9, 0.7, MD),
+    ("B30", 60.0, (390.0, 470.0, 560.0, 720.0), 0.5, 1.0, MD),
+    ("lossless", 30.0, (410.0, 500.0, 600.0, 700.0), 0.9, 1.0, CY),
+    ("absorbing", 70.0, (380.0, 550.0, 620.0, 780.0), 0.9, 0.4, CY),
+    ("absorbing", 70.0, (380.0, 550.0, 620.0, 780.0), 0.9, 0.4, MD),
 ]
 
 
-@pytest.mark.parametrize("ink,deg,wavelengths,paper,coverage", CHI2_CASES)
-def test_chi2_sample_vs_pdf(use_variant, ink_tables, diffuse_tables, ink, deg, wavelengths, paper, coverage):
+@pytest.mark.parametrize("ink,deg,wavelengths,paper,coverage,model", CHI2_CASES)
+def test_chi2_sample_vs_pdf(use_variant, ink_tables, diffuse_tables, ink, deg, wavelengths, paper, coverage,
+                            model):
     mi = use_variant("llvm_ad_spectral")
     from mitsuba.chi2 import ChiSquareTest, SphericalDomain
 
     path = {**ink_tables, **diffuse_tables}[ink]
-    bsdf = ink_bsdf(mi, path, paper, coverage)
+    bsdf = ink_bsdf(mi, path, paper, coverage, model)
     s = np.radians(deg)
     sample, pdf = chi2_adapter(mi, bsdf, (np.sin(s), 0.0, np.cos(s)), wavelengths)
     chi2 = ChiSquareTest(domain=SphericalDomain(), sample_func=sample, pdf_func=pdf,
                          sample_dim=3, sample_count=400_000, res=61, seed=int(deg))
     assert chi2.run(significance_level=0.01, test_count=len(CHI2_CASES), quiet=True), chi2.messages
     # The smooth part holds 1 − P_spec of the samples (P_spec computed independently).
-    p_spec, _ = reference_delta(path, np.array(wavelengths)[:, None], deg, paper, coverage)
+    p_spec, _ = reference_delta(path, np.array(wavelengths)[:, None], deg, paper, coverage, model)
     assert 0.01 < p_spec[0] < 0.99
     assert abs(float(chi2.pdf_sum[0]) - (1.0 - p_spec[0])) < 2e-3
     assert abs(float(chi2.histogram_sum[0]) - (1.0 - p_spec[0])) < 5e-3
@@ -79,8 +90,10 @@ def _draw(mi, bsdf, deg, n, seed, ctx=None):
     return si, bs, weight, lam, wi
 
 
-def reference_delta(path, lam, deg, paper, coverage):
-    """(P_spec [n], delta-lobe weight c·R_spec/P_spec [4, n]) from the table with SciPy."""
+def reference_delta(path, lam, deg, paper, coverage, model=CY):
+    """(P_spec [n], delta-lobe weight c·R_spec/P_spec [4, n]) from the table with SciPy; the
+    smooth albedo is c·R_diff + the paper term of the coverage model (Murray–Davies:
+    c·r·T̄τ̄/(1 − rρ̄) + (1 − c)·r; Clapper–Yule: r·(cT̄ + 1 − c)(cτ̄ + 1 − c)/(1 − rcρ̄))."""
     lut = load_lut(path)
     wl = lut.wavelengths_nm
     lam = np.clip(lam, wl[0], wl[-1])
@@ -89,13 +102,18 @@ def reference_delta(path, lam, deg, paper, coverage):
            for k in ("R_spec", "Tbar", "R_diff")}
     rho, tau = np.interp(lam, wl, lut.rho_bar), np.interp(lam, wl, lut.tau_bar)
     spec = coverage * col["R_spec"]
-    diffuse = coverage * (col["R_diff"] + paper * col["Tbar"] * tau / (1 - paper * rho)) + (1 - coverage) * paper
+    c = coverage
+    if model == MD:
+        diffuse = c * (col["R_diff"] + paper * col["Tbar"] * tau / (1 - paper * rho)) + (1 - c) * paper
+    else:
+        diffuse = c * col["R_diff"] + paper * (c * col["Tbar"] + 1 - c) * (c * tau + 1 - c) / (1 - paper * c * rho)
     p_spec = spec.mean(axis=0) / (spec + diffuse).mean(axis=0)
     return p_spec, spec / p_spec
 
 
-@pytest.mark.parametrize("ink,deg", [("clear", 20.0), ("G30", 65.0), ("absorbing", 50.0)])
-def test_sample_weights(use_variant, ink_tables, diffuse_tables, ink, deg):
+@pytest.mark.parametrize("ink,deg,model", [("clear", 20.0, CY), ("G30", 65.0, CY), ("absorbing", 50.0, CY),
+                                           ("absorbing", 50.0, MD)])
+def test_sample_weights(use_variant, ink_tables, diffuse_tables, ink, deg, model):
     """Diffuse samples: weight = eval/pdf and bs.pdf = pdf(); delta samples: mirror direction,
     weight c·R_spec/P_spec and bs.pdf = P_spec, P_spec from an independent evaluation."""
     mi = use_variant("llvm_ad_spectral")
@@ -103,7 +121,7 @@ def test_sample_weights(use_variant, ink_tables, diffuse_tables, ink, deg):
 
     path = {**ink_tables, **diffuse_tables}[ink]
     paper, coverage = 0.85, 0.8
-    bsdf = ink_bsdf(mi, path, paper, coverage)
+    bsdf = ink_bsdf(mi, path, paper, coverage, model)
     si, bs, weight, lam, wi = _draw(mi, bsdf, deg, 1 << 14, seed=11)
     delta = np.asarray(mi.has_flag(bs.sampled_type, mi.BSDFFlags.Delta))
     assert 0.01 < delta.mean() < 0.9
@@ -116,7 +134,7 @@ def test_sample_weights(use_variant, ink_tables, diffuse_tables, ink, deg):
     np.testing.assert_allclose(np.asarray(bsdf.pdf(mi.BSDFContext(), si, bs.wo))[d], pdf[d], rtol=1e-6)
     wo = np.array([np.asarray(bs.wo[k]) for k in range(3)])
     np.testing.assert_allclose(wo[:, delta], (wi * [[-1], [-1], [1]])[:, delta], atol=1e-6)
-    p_spec, w_spec = reference_delta(path, lam, deg, paper, coverage)
+    p_spec, w_spec = reference_delta(path, lam, deg, paper, coverage, model)
     np.testing.assert_allclose(bs_pdf[delta], p_spec[delta], rtol=2e-4)
     np.testing.assert_allclose(weight[:, delta], w_spec[:, delta], rtol=5e-4)
     np.testing.assert_allclose(pdf[d], (1 - p_spec[d]) * wo[2, d] / np.pi, rtol=3e-4)
@@ -167,8 +185,8 @@ def test_extreme_inputs_are_finite(use_variant, ink_tables, diffuse_tables):
     lam = np.tile(np.array([[1.0], [359.0], [831.0], [1e4]]), (1, n))
     wo = np.stack([np.zeros(n), sin_i[::-1], cos_i[::-1]])
     for path in (ink_tables["clear"], ink_tables["B30"], diffuse_tables["absorbing"]):
-        for paper, coverage in ((1.0, 1.0), (0.0, 0.5)):
-            bsdf = ink_bsdf(mi, path, paper, coverage)
+        for paper, coverage, model in ((1.0, 1.0, CY), (0.0, 0.5, CY), (1.0, 0.5, MD)):
+            bsdf = ink_bsdf(mi, path, paper, coverage, model)
             si = surface_interaction(mi, wi, lam)
             for u in (0.0, 1.0 - 1e-7):
                 bs, w = bsdf.sample(mi.BSDFContext(), si, mi.Float(np.full(n, u)), mi.Point2f(u, u))

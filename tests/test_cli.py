@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from solver.cli import main
-from solver.cli.build import parse_range
+from solver.table.request import wavelength_range
 from solver.table import read_table
 
 
@@ -38,8 +38,8 @@ def test_console_script_reports_bad_input(tmp_path):
         assert words in res.stderr and res.stderr.count("\n") == 1, res.stderr
 
 
-def test_parse_range():
-    np.testing.assert_allclose(parse_range("380:780:10")[[0, -1]], [380, 780])
-    assert parse_range("380:780:10").size == 41 and parse_range("500").tolist() == [500.0]
+def test_wavelength_range():
+    wl = wavelength_range("380:780:10")
+    assert (wl[0], wl[-1], len(wl)) == (380.0, 780.0, 41) and wavelength_range("500") == (500.0,)
     with pytest.raises(ValueError, match="STEP"):
-        parse_range("780:380:10")
+        wavelength_range("780:380:10")

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from solver.table.integrals import diffuse_albedo
-from solver.table.reduce import fold_dphi, spread_orders, symmetrize_reciprocal
+from solver.table.orders_to_brdf import fold_dphi, spread_orders, symmetrize_reciprocal
 
 POLAR = np.radians([0, 15, 30, 45, 60, 70, 80, 90])
 DPHI = np.linspace(0, np.pi, 13)
@@ -50,7 +50,7 @@ def test_symmetrize_leaves_reciprocal_input_unchanged():
 
 
 def test_isotropize_normal_keeps_albedo_and_removes_azimuth_dependence():
-    from solver.table.reduce import isotropize_normal
+    from solver.table.orders_to_brdf import isotropize_normal
 
     rng = np.random.default_rng(4)
     R = rng.uniform(0.0, 0.2, (2, POLAR.size, POLAR.size, DPHI.size))

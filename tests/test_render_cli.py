@@ -73,11 +73,303 @@ def test_scene_without_parameters_renders_and_says_what_it_ignored(tmp_path, ink
     assert scene_parameter_names(scene.read_text()) == set()
     assert scene_parameter_names(Path(SCENE).read_text()) >= {"tables", "width", "height", "spp", "paper"}
     exr = tmp_path / "bare.exr"
-    with pytest.warns(UserWarning, match=r"takes no parameter \$width; ignored"):
-        assert main([str(scene), "--spp", "2", "--width", "64", "-o", str(exr)]) == 0
+    assert main([str(scene), "--spp", "2", "--width", "64", "-o", str(exr)]) == 0
+    assert capsys.readouterr().err == f"warning: {scene} takes no parameter $width; ignored\n"
     from inkbsdf.imageio import read_exr
 
     assert read_exr(exr).shape == (12, 16, 3)          # the scene's own film, not --width
     scene.write_text(scene.read_text().replace('<integrator type="path"/>', ""))
     assert main([str(scene), "--spp", "2", "-o", str(exr)]) == 2   # no integrator: one line, no traceback
     assert "No integrator" in capsys.readouterr().err
+
+
+# ------------------------------------------------------------------ hardening: bad input
+BARE_SCENE = """<scene version="3.0.0">
+  {defaults}
+  <integrator type="path"/>
+  <sensor type="perspective"><transform name="to_world"><lookat origin="0,0,3" target="0,0,0" up="0,1,0"/></transform>
+    <sampler type="independent"><integer name="sample_count" value="{spp}"/></sampler>
+    <film type="hdrfilm"><integer name="width" value="12"/><integer name="height" value="10"/></film></sensor>
+  <emitter type="constant"/>
+  <shape type="rectangle"><bsdf type="ink">{bsdf}</bsdf></shape>
+</scene>"""
+
+
+def bare_scene(folder, bsdf, spp="4", defaults="", name="scene.xml"):
+    path = folder / name
+    path.write_text(BARE_SCENE.format(bsdf=bsdf, spp=spp, defaults=defaults))
+    return path
+
+
+def table_param(path):
+    return f'<string name="filename" value="{path}"/>'
+
+
+@pytest.fixture()
+def unwritable_dir(tmp_path):
+    """A folder this process cannot create files in (root ignores permission bits: /sys)."""
+    import os
+    import tempfile
+
+    folder = tmp_path / "ro"
+    folder.mkdir()
+    folder.chmod(0o555)
+    if os.geteuid() == 0:
+        folder = Path("/sys")
+    with pytest.raises(OSError):
+        tempfile.mkstemp(dir=folder)
+    yield folder
+    (tmp_path / "ro").chmod(0o755)
+
+
+def _bad_cases(tmp, tables, unwritable):
+    """(argv, needle the one error line must contain) for each class of bad input."""
+    r30 = table_param(tables / "R30.npz")
+    scene, exr = str(SCENE), str(tmp / "x.exr")
+    base = [scene, "--tables", str(tables), "-o", exr]
+    return {
+        "width 0": (base + ["--width", "0"], "--width"),
+        "height <0": (base + ["--height", "-3"], "--height"),
+        "spp 0": (base + ["--spp", "0"], "--spp"),
+        "spp text": (base + ["--spp", "many"], "--spp"),
+        "exposure nan": (base + ["--exposure", "nan", "--png", str(tmp / "x.png")], "--exposure"),
+        "exposure inf": (base + ["--exposure", "inf", "--png", str(tmp / "x.png")], "--exposure"),
+        "output not exr": ([scene, "--tables", str(tables), "-o", str(tmp / "x.png")], ".exr"),
+        "too many samples": (base + ["--width", "2", "--height", "2", "--spp", "1100000000"], "2^32"),
+        "png not png": (base + ["--png", str(tmp / "x.jpg")], "--png"),
+        "output in a file": ([scene, "-o", str(tables / "R30.npz" / "x.exr")], "not a folder"),
+        "output read-only": ([scene, "-o", str(unwritable / "x.exr")], "cannot write in"),
+        "png read-only": (base + ["--png", str(unwritable / "x.png")], "--png"),
+        "variant bogus": (base + ["--variant", "bogus"], "llvm_ad_spectral"),
+        "variant rgb": (base + ["--variant", "scalar_rgb"], "scalar_spectral"),
+        "variant polarized": (base + ["--variant", "llvm_ad_spectral_polarized"], "unpolarized"),
+        "param type": ([str(bare_scene(tmp, r30 + '<string name="paper" value="white"/>', name="t.xml")),
+                        "-o", exr], "parameter 'paper'"),
+        "param value": ([str(bare_scene(tmp, '<string name="ink" value="R30"/><string name="thickness" '
+                                             'value="thick"/>', name="v.xml")), "-o", exr],
+                        "parameter 'thickness'"),
+        "unknown param": ([str(bare_scene(tmp, r30 + '<float name="papr" value="0.5"/>', name="u.xml")),
+                           "-o", exr], "'papr'"),
+        "cache is a file": ([str(bare_scene(tmp, '<string name="ink" value="R30"/><string name="cache" '
+                                                 f'value="{tables / "R30.npz"}"/>', name="c.xml")),
+                             "-o", exr], "is a file, not a folder"),
+        "cache read-only": ([str(bare_scene(tmp, '<string name="ink" value="R30"/><string name="cache" '
+                                                 f'value="{unwritable / "cache"}"/>', name="r.xml")),
+                             "-o", exr], "writable folder with parameter 'cache'"),
+    }
+
+
+def test_bad_input_one_line_exit_2_before_any_work(tmp_path, ink_tables, unwritable_dir, capsys):
+    """Every class of bad input: exit 2, one line on stderr naming the option or parameter,
+    nothing rendered (no 'rendering…' line) and nothing written."""
+    cases = _bad_cases(tmp_path, ink_tables["R30"].parent, unwritable_dir)
+    for name, (argv, needle) in cases.items():
+        code = main(argv)
+        out, err = capsys.readouterr()
+        lines = err.strip().splitlines()
+        assert code == 2, (name, err)
+        assert len(lines) == 1 and lines[0].startswith("error: ") and needle in lines[0], (name, err)
+        assert "rendering" not in out, name
+        assert not (tmp_path / "x.exr").exists() and not (tmp_path / "x.png").exists(), name
+
+
+def _start_cli(argv):
+    """`python -m inkbsdf.render argv` in a subprocess with SIGINT at its default (Python then
+    turns it into KeyboardInterrupt even when the test runner itself ignores it)."""
+    import signal
+
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)   # exec resets it to default
+    try:
+        return subprocess.Popen([sys.executable, "-m", "inkbsdf.render", *argv], stdout=subprocess.PIPE,
+                                stderr=subprocess.PIPE, text=True)
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+def test_entry_point_bad_input_has_no_traceback(tmp_path, ink_tables, unwritable_dir):
+    """The real command, a subprocess per class (run side by side): exit 2, one line, no traceback."""
+    cases = _bad_cases(tmp_path, ink_tables["R30"].parent, unwritable_dir)
+    chosen = ["width 0", "output read-only", "variant bogus", "param type"]
+    procs = {name: _start_cli(cases[name][0]) for name in chosen}
+    try:
+        for name, proc in procs.items():
+            _, err = proc.communicate(timeout=120)
+            assert proc.returncode == 2, (name, err)
+            assert "Traceback" not in err, (name, err)
+            assert len(err.strip().splitlines()) == 1 and cases[name][1] in err, (name, err)
+    finally:
+        for proc in procs.values():
+            proc.kill()
+            proc.wait()
+
+
+# ----------------------------------------------------------------------- samples per pixel
+def test_spp_defaults_to_the_scenes_own(tmp_path, ink_tables, capsys):
+    """Without --spp the scene's sample count is used (and said): the image equals an explicit
+    render at that count with the same seed, and differs from one at the old fixed 64."""
+    from inkbsdf.imageio import read_exr
+
+    r30 = table_param(ink_tables["R30"])
+    scene = bare_scene(tmp_path, r30, spp="$spp", defaults='<default name="spp" value="3"/>')
+    images = {}
+    for label, extra in {"default": [], "3": ["--spp", "3"], "64": ["--spp", "64"]}.items():
+        assert main([str(scene), "-o", str(tmp_path / f"{label}.exr")] + extra) == 0
+        images[label] = read_exr(tmp_path / f"{label}.exr")
+        out = capsys.readouterr().out
+        if label == "default":
+            assert "3 spp (the scene's default)" in out
+    assert np.array_equal(images["default"], images["3"])
+    assert not np.array_equal(images["default"], images["64"])
+    sampler_only = bare_scene(tmp_path, r30, spp="5", name="sampler.xml")    # no <default>: the sampler's
+    assert main([str(sampler_only), "-o", str(tmp_path / "s.exr")]) == 0
+    assert "5 spp (the scene's default)" in capsys.readouterr().out
+
+
+# -------------------------------------------------------------------------------- Ctrl-C
+def _children(pid):
+    from pathlib import Path as P
+
+    kids = set()
+    for task in P(f"/proc/{pid}/task").glob("*"):
+        try:
+            kids |= {int(k) for k in (task / "children").read_text().split()}
+        except OSError:
+            pass
+    return kids
+
+
+def _wait_for(stream, text, proc, timeout_s):
+    """Read lines of `stream` until one contains `text` (the process is killed on timeout)."""
+    import threading
+
+    timer = threading.Timer(timeout_s, proc.kill)
+    timer.start()
+    try:
+        seen = []
+        for line in stream:
+            seen.append(line)
+            if text in line:
+                return "".join(seen)
+        raise AssertionError(f"never saw {text!r}: {''.join(seen)[-2000:]}")
+    finally:
+        timer.cancel()
+
+
+def _interrupt(proc):
+    import signal
+    import time
+
+    t0 = time.perf_counter()
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=30)
+    return time.perf_counter() - t0, out, err
+
+
+def test_ctrl_c_during_render_exits_130_promptly(tmp_path, ink_tables):
+    """SIGINT while the kernel runs (a render of tens of seconds): exit 130 within ~1 s, no
+    traceback, nothing written. (Before: the render ran to its end, ~9 s.)"""
+    import time
+
+    exr = tmp_path / "long.exr"
+    proc = _start_cli([SCENE, "--tables", str(ink_tables["R30"].parent), "--spp", "4096", "--width", "160",
+                       "--height", "128", "-o", str(exr)])
+    try:
+        _wait_for(proc.stdout, "rendering", proc, 120)
+        time.sleep(0.5)
+        seconds, _, err = _interrupt(proc)
+    finally:
+        proc.kill()
+        proc.wait()
+    assert proc.returncode == 130, err
+    assert "Traceback" not in err and "interrupted" in err
+    assert seconds < 3.0, f"took {seconds:.1f} s to stop"
+    assert not exr.exists()
+
+
+def test_ctrl_c_during_scene_load_stops_table_workers(tmp_path):
+    """SIGINT while a scene load builds a particle table on 2 worker processes: exit 130
+    promptly, no traceback (neither ours nor the workers'), and no worker left running."""
+    import os
+    import time
+
+    bsdf = ('<string name="ink" value="Y7.5+B7.5"/><string name="particles" value="sphere:300"/>'
+            f'<string name="cache" value="{tmp_path / "cache"}"/>')
+    proc = _start_cli([str(bare_scene(tmp_path, bsdf)), "--workers", "2", "-o", str(tmp_path / "x.exr")])
+    try:
+        _wait_for(proc.stderr, "computing table", proc, 120)
+        deadline = time.monotonic() + 60
+        while len(_children(proc.pid)) < 2 and time.monotonic() < deadline:
+            time.sleep(0.1)                                 # the pool's workers have started
+        children = _children(proc.pid)
+        assert len(children) >= 2
+        seconds, _, err = _interrupt(proc)
+    finally:
+        proc.kill()
+        proc.wait()
+    assert proc.returncode == 130, err
+    assert "Traceback" not in err and "interrupted" in err, err
+    assert seconds < 3.0, f"took {seconds:.1f} s to stop"
+    deadline = time.monotonic() + 10
+    while any(os.path.exists(f"/proc/{c}") for c in children) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    assert not any(os.path.exists(f"/proc/{c}") for c in children), "a worker outlived the command"
+
+
+# ------------------------------------------------------------------------------- imageio
+def test_png_warns_with_the_count_of_non_finite_pixels(tmp_path):
+    from inkbsdf.imageio import NonFiniteWarning, write_png
+
+    image = np.full((4, 5, 3), 0.5, dtype=np.float32)
+    image[0, 0, 1] = np.nan
+    image[1, 2] = np.inf
+    image[3, 4, 0] = -np.inf
+    with pytest.warns(NonFiniteWarning, match=r"3 of 20 pixels are NaN or infinite"):
+        write_png(tmp_path / "bad.png", image)
+    assert (tmp_path / "bad.png").stat().st_size > 0
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        write_png(tmp_path / "good.png", np.full((4, 5, 3), 0.5, dtype=np.float32))
+
+
+@pytest.mark.parametrize("stops", [float("nan"), float("inf"), -float("inf")])
+def test_non_finite_exposure_refused(tmp_path, stops):
+    from inkbsdf.imageio import srgb_encode, write_png
+
+    image = np.full((2, 2, 3), 0.5, dtype=np.float32)
+    with pytest.raises(ValueError, match="exposure must be a finite"):
+        srgb_encode(image, stops)
+    with pytest.raises(ValueError, match="exposure must be a finite"):
+        write_png(tmp_path / "x.png", image, stops)
+    assert not (tmp_path / "x.png").exists()
+
+
+def test_image_writers_check_the_extension(tmp_path):
+    from inkbsdf.imageio import write_exr, write_png
+
+    image = np.zeros((2, 2, 3), dtype=np.float32)
+    with pytest.raises(ValueError, match=r"must end in \.exr"):
+        write_exr(tmp_path / "x.png", image)
+    with pytest.raises(ValueError, match=r"must end in \.png"):
+        write_png(tmp_path / "x.exr", image)
+    assert write_exr(tmp_path / "UPPER.EXR", image).exists()
+
+
+def test_cli_says_non_finite_pixels_in_one_warning_line(tmp_path, ink_tables, monkeypatch, capsys):
+    """A render with NaN pixels (a stand-in for a broken scene): the PNG is written, and stderr
+    says how many pixels, in one `warning:` line (no source-line echo)."""
+    import inkbsdf.render as render
+
+    def broken_render(scene, spp=None, seed=0):
+        image = np.full((10, 12, 3), 0.25, dtype=np.float32)
+        image[2:4, 5] = np.nan
+        return image, 0.0
+
+    monkeypatch.setattr(render, "render_loaded", broken_render)
+    r30 = table_param(ink_tables["R30"])
+    code = main([str(bare_scene(tmp_path, r30)), "-o", str(tmp_path / "n.exr"), "--png", str(tmp_path / "n.png")])
+    err = capsys.readouterr().err
+    assert code == 0 and (tmp_path / "n.png").exists()
+    assert err.strip().splitlines() == [f"warning: {tmp_path / 'n.png'}: 2 of 120 pixels are NaN or infinite "
+                                        "(NaN written black, ±inf clipped): the render has a problem"]

@@ -1,4 +1,4 @@
-"""Table schema v1: round trip and one clear error for each kind of bad file."""
+"""Table schema (v2; a TE table, so v1's columns): round trip and one clear error for each kind of bad file."""
 
 import json
 from dataclasses import replace
@@ -14,7 +14,7 @@ from solver.table.thinfilm_tier import build_thinfilm_table
 @pytest.fixture()
 def table():
     return build_thinfilm_table(parse_ink("Y7.5+B7.5"), 1000.0, np.arange(380.0, 781.0, 40.0),
-                                np.linspace(0, np.pi / 2, 10))
+                                np.linspace(0, np.pi / 2, 10), polarisation="te")
 
 
 def test_round_trip(tmp_path, table):
@@ -40,11 +40,11 @@ def test_truncated_file(tmp_path, table):
 
 
 def test_wrong_version(tmp_path, table):
-    path = tmp_path / "v2.npz"
+    path = tmp_path / "v3.npz"
     arrays = {k: getattr(table, k) for k in ("wavelengths", "sigma", "theta", "dphi", "R", "R_spec",
                                                "T_coh", "Rbar", "Tbar", "Rbar_below")}
-    np.savez(path, meta=np.array(json.dumps({**table.meta, "schema_version": 2})), **arrays)
-    with pytest.raises(TableError, match="schema version 2 is not supported"):
+    np.savez(path, meta=np.array(json.dumps({**table.meta, "schema_version": 3})), **arrays)
+    with pytest.raises(TableError, match="schema version 3 is not supported"):
         read_table(path)
 
 

@@ -11,15 +11,16 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from conftest import process_group
 from solver.geometry import VoxelFractions, eps_grid
 from solver.inks import parse_ink
 from solver.table import read_table
 from solver.table.builder import BuildOptions, build_table, get_or_build
 from solver.table.cache import TableCache
 from solver.table.integrals import diffuse_albedo
-from solver.table.request import TableRequest
+from solver.table.request import TableRequest, table_request
 from solver.table.thinfilm_tier import build_thinfilm_table
-from solver.table.wave_reduce import reduce_units
+from solver.table.wave_ensemble import reduce_units
 from solver.table.wave_tier import GeometryUnit, SolveUnit, azimuths, geometry_unit, solve_unit
 from solver.wave import Cell, Incidence, solve
 
@@ -31,7 +32,7 @@ def small(**kw) -> TableRequest:
                 sigma_rad=tuple(np.radians([0.0, 40.0, 90.0])), grid=(16, 16, 8), realizations=2,
                 azimuths=1, dphi_count=7, tier="full")
     base.update(kw)
-    return TableRequest(**base)
+    return table_request(base.pop("ink"), base.pop("particles"), **base)
 
 
 def opts(tmp_path, workers=1, **kw) -> BuildOptions:
@@ -50,10 +51,10 @@ def test_small_table_equals_direct_solves(tmp_path):
     table = build_table(req, opts(tmp_path))
     vox = geometry_unit(GeometryUnit(req, 0))
     phi = azimuths(req, 0)[0]
-    for li, wl in enumerate(req.wavelengths_nm):
+    for li, wl in enumerate(req.grids.wavelengths_nm):
         cell = Cell(eps_grid(vox, wl), vox.period_nm, vox.z_range_nm)
-        for si, sigma in enumerate(req.sigma_rad[:-1]):
-            direct = solve(cell, Incidence(wl, sigma, phi), tol=req.solver_tol)
+        for si, sigma in enumerate(req.grids.sigma_rad[:-1]):
+            direct = solve(cell, Incidence(wl, sigma, phi), tol=req.wave.solver_tol)
             assert table.Rbar[li, si] == pytest.approx(direct.R, abs=1e-9)
             assert table.Tbar[li, si] == pytest.approx(direct.T, abs=1e-9)
             assert table.R_spec[li, si] == pytest.approx(direct.R_spec, abs=1e-9)   # one sample: coherent = |α00|²
@@ -87,22 +88,24 @@ def test_reciprocity_after_symmetrisation(table_and_request):
 def test_molecular_ink_through_the_wave_path_equals_the_exact_tier():
     """A homogeneous voxel grid (the molecular mix) through solve_unit + reduce = the thin film."""
     req = small(ink="R15", realizations=1, wavelengths_nm=(450.0, 530.0))
-    ink = parse_ink(req.ink)
-    nx, ny, nz = req.grid
+    ink = req.layer.ink
+    nx, ny, nz = req.wave.grid
     fractions = np.zeros((3, nx, ny, nz), np.float32)
     fractions[0], fractions[2] = 1.0 - ink.total_fraction, ink.total_fraction
-    vox = VoxelFractions(("binder", "air", "R"), fractions, (req.cell_nm, req.cell_nm), (0.0, req.thickness_nm))
+    vox = VoxelFractions(("binder", "air", "R"), fractions, (req.wave.cell_nm,) * 2, (0.0, req.thickness_nm))
     units = [[solve_unit(SolveUnit(req, 0, li, vox)) for li in range(2)]]
     table = reduce_units(req, units, {"schema_version": 1})
-    film = build_thinfilm_table(ink, req.thickness_nm, req.wavelengths_nm, req.sigma_rad)
+    film = build_thinfilm_table(ink, req.thickness_nm, req.grids.wavelengths_nm, req.grids.sigma_rad,
+                                polarisation="te")    # the scalar wave path is TE
     for name in ("R_spec", "T_coh", "Rbar", "Tbar"):
         np.testing.assert_allclose(getattr(table, name), getattr(film, name), atol=2e-4)
     assert np.max(table.R) < 1e-6          # a homogeneous layer scatters nothing diffusely
 
 
 def test_molecular_request_is_the_exact_tier(tmp_path):
-    table, _, built = get_or_build(TableRequest("Y12.5+B2.5"), opts(tmp_path))
-    film = build_thinfilm_table(parse_ink("Y12.5+B2.5"), 1000.0, table.wavelengths, table.sigma)
+    table, _, built = get_or_build(table_request("Y12.5+B2.5"), opts(tmp_path))
+    film = build_thinfilm_table(parse_ink("Y12.5+B2.5"), 1000.0, table.wavelengths, table.sigma,
+                                polarisation=table.polarisation)
     assert built and table.meta["tier"] == "thin-film"
     for name in COLUMNS:
         np.testing.assert_array_equal(getattr(table, name), getattr(film, name))
@@ -139,6 +142,7 @@ def test_tier_choice_is_measured_and_recorded(tmp_path):
     assert tiny.meta["tier_probe"]["deviation"]["effective-medium"] <= 0.02
 
 
+@pytest.mark.slow
 def test_identical_for_any_number_of_workers_and_on_dask(tmp_path):
     from distributed import LocalCluster
 
@@ -152,29 +156,37 @@ def test_identical_for_any_number_of_workers_and_on_dask(tmp_path):
             np.testing.assert_array_equal(getattr(other, name), getattr(serial, name))
 
 
+@pytest.mark.slow
 def test_killed_build_resumes_from_finished_units(tmp_path):
     cache = tmp_path / "cache"
     args = [sys.executable, "-m", "solver.cli", "-v", "build", "--ink", "Y7.5+B7.5", "--particles", "sphere:300",
             "--wavelengths", "400:700:20", "--angles", "4", "--grid", "24", "24", "12", "--realizations", "1",
             "--azimuths", "2", "--tier", "full", "--cache", str(cache), "--no-progress", "-o", str(tmp_path / "t.npz")]
-    proc = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    # a session of its own: every process the build starts (pool workers, the resource tracker)
+    # carries its process-group id, so we can see whether any outlives the kill
+    proc = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
     parts = lambda: sorted(cache.glob("parts/*/full_*.npz"))
     deadline = time.time() + 120
     while len(parts()) < 3 and time.time() < deadline and proc.poll() is None:
         time.sleep(0.02)
+    assert len(process_group(proc.pid)) >= 2, "the build was meant to run on a pool of workers"
     proc.send_signal(signal.SIGKILL)
     proc.wait()
     done = len(parts())
     assert 3 <= done < 16, f"the kill must land mid-build ({done} of 16 units finished)"
+    deadline = time.time() + 10
+    while process_group(proc.pid) and time.time() < deadline:
+        time.sleep(0.05)
+    assert not process_group(proc.pid), f"processes outlived the killed build: {process_group(proc.pid)}"
     res = subprocess.run(args, capture_output=True, text=True)
     assert res.returncode == 0, res.stderr
     assert f"solve (full): {16 - done} of 16 units to compute ({done} reused)" in res.stderr, res.stderr
     assert "geometry: " not in res.stderr            # the realization's voxels were reused too
     resumed = read_table(tmp_path / "t.npz")
-    fresh = build_table(TableRequest("Y7.5+B7.5", particles="sphere:300",
-                                     wavelengths_nm=tuple(np.arange(400.0, 701.0, 20.0)),
-                                     sigma_rad=tuple(np.linspace(0, np.pi / 2, 4)), grid=(24, 24, 12),
-                                     realizations=1, azimuths=2, tier="full"), opts(tmp_path / "fresh"))
+    fresh = build_table(table_request("Y7.5+B7.5", "sphere:300",
+                                      wavelengths_nm=tuple(np.arange(400.0, 701.0, 20.0)),
+                                      sigma_rad=tuple(np.linspace(0, np.pi / 2, 4)), grid=(24, 24, 12),
+                                      realizations=1, azimuths=2, tier="full"), opts(tmp_path / "fresh"))
     for name in COLUMNS:
         np.testing.assert_array_equal(getattr(resumed, name), getattr(fresh, name))
     assert not list(cache.glob("parts/*/*.npz"))      # a finished build clears its parts

@@ -47,11 +47,11 @@ def test_lossless_conserves_energy_and_grazing_is_finite():
 
 
 @pytest.mark.parametrize("spec", ["clear", "R15", "Y7.5+B7.5", "G50", "B50"])
-def test_table_columns_equal_oracle(spec):
+def test_te_table_columns_equal_oracle(spec):
     ink = parse_ink(spec)
     wl = np.array([400.0, 530.0, 690.0])
     sigma = np.linspace(0, np.pi / 2, 7)
-    table = build_thinfilm_table(ink, 1000.0, wl, sigma)
+    table = build_thinfilm_table(ink, 1000.0, wl, sigma, polarisation="te")
     eps = molecular_eps(ink, wl)
     for i, w in enumerate(wl):
         for j, s in enumerate(sigma[:-1]):

@@ -9,7 +9,10 @@ from __future__ import annotations
 import argparse
 import importlib
 import logging
+import os
+import signal
 import sys
+import threading
 
 SUBCOMMANDS = ("build", "show", "geometry")
 
@@ -30,15 +33,36 @@ def make_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _terminated(signum, _frame):
+    """SIGTERM: unwind like an interrupt, so temp files are removed and workers stopped."""
+    raise SystemExit(128 + signum)
+
+
+def _os_error(exc: OSError) -> str:
+    return f"{exc.strerror or exc}: {exc.filename}" if exc.filename else str(exc.strerror or exc)
+
+
 def main(argv: list[str] | None = None) -> int:
     args = make_parser().parse_args(argv)
     logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING,
                         format="%(levelname)s %(name)s: %(message)s")
     logging.getLogger("inkbsdf.tables").setLevel(logging.INFO)   # what a build computes, and reuses
+    if threading.current_thread() is threading.main_thread():
+        signal.signal(signal.SIGTERM, _terminated)
+    prefix = f"ink-tables {args.command}"
     try:
         return int(args.func(args) or 0)
-    except (ValueError, FileNotFoundError) as exc:
-        print(f"ink-tables {args.command}: error: {exc}", file=sys.stderr)
+    except KeyboardInterrupt:
+        print(f"{prefix}: interrupted (finished work units are kept; rerun to resume)", file=sys.stderr)
+        return 130
+    except BrokenPipeError:                     # e.g. `ink-tables show t.npz | head`
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
+    except ValueError as exc:                   # bad input: requests, specs, tables, the cache
+        print(f"{prefix}: error: {exc}", file=sys.stderr)
+        return 2
+    except OSError as exc:                      # read-only folder, full disk, missing file
+        print(f"{prefix}: error: {_os_error(exc)}", file=sys.stderr)
         return 2
 
 

@@ -15,7 +15,7 @@ import numpy as np
 
 from ..colour import lab_hue_chroma, reflectance_to_srgb8, reflectance_to_xyz, xyz_to_lab
 from ..table import read_table
-from ..table.evaluate import diffuse_brdf, directional_albedo
+from ..table.evaluate import column_at, diffuse_brdf, directional_albedo
 
 MAX_ANGLE_DEG = 60.0
 
@@ -38,27 +38,38 @@ def figure6(table, paper: float = 0.9, size: int = 256, strip: int = 64, gap: in
     return image
 
 
+def _column_at_deg(table, name: str, degrees: float) -> np.ndarray:
+    return column_at(table, name, np.radians(degrees))
+
+
 def summary(table, paper: float = 0.9) -> str:
     meta = table.meta
     wl = table.wavelengths
     lines = [
         f"ink {meta.get('ink')}  particles {meta.get('particles')}  tier {meta.get('tier')}  "
-        f"thickness {meta.get('thickness_nm')} nm  schema v{meta.get('schema_version')}",
+        f"thickness {meta.get('thickness_nm')} nm  polarisation {meta.get('polarisation', 'te')}  "
+        f"schema v{meta.get('schema_version')}",
         f"wavelengths {wl[0]:g}–{wl[-1]:g} nm ({wl.size})  incidence angles {table.sigma.size}  "
         f"BRDF grid θ×Δφ {table.theta.size}×{table.dphi.size}  diffuse R: {'yes' if table.has_diffuse else 'none'}",
         f"generator {meta.get('generator')}  seeds {meta.get('seeds')}",
     ]
+    n_real = len(meta.get("seeds") or [])
     if table.errors:
         worst = {k: float(np.max(v)) for k, v in table.errors.items()}
         lines.append("largest standard errors: " + ", ".join(f"{k} {v:.2g}" for k, v in worst.items()))
-    lines.append("  λ nm   R_spec(0°)  Rbar(0°)  Tbar(0°)  A(0°)   Rbar(60°)  Tbar(60°)")
-    i60 = int(np.argmin(np.abs(table.sigma - np.radians(60))))
+    elif n_real == 1:
+        lines.append("standard errors: unknown (one realization; build with --realizations ≥ 2)")
+    err = table.errors.get("Tbar")
+    head = f"  {'λ nm':>5}  {'R_spec(0°)':>10}  {'Rbar(0°)':>8}  {'Tbar(0°)':>8}  {'±Tbar':>6}  {'A(0°)':>6}  " \
+           f"{'Rbar(60°)':>9}  {'Tbar(60°)':>9}"
+    lines.append(head)
+    r60, t60 = _column_at_deg(table, "Rbar", 60.0), _column_at_deg(table, "Tbar", 60.0)
     for li in np.unique(np.linspace(0, wl.size - 1, min(wl.size, 9)).round().astype(int)):
-        err = table.errors.get("Tbar")
-        pm = f" ±{err[li, 0]:.3f}" if err is not None else ""
-        lines.append(f"  {wl[li]:5.0f}  {table.R_spec[li, 0]:9.4f}  {table.Rbar[li, 0]:8.4f}  "
-                     f"{table.Tbar[li, 0]:8.4f}{pm}  {1 - table.Rbar[li, 0] - table.Tbar[li, 0]:6.4f}  "
-                     f"{table.Rbar[li, i60]:9.4f}  {table.Tbar[li, i60]:9.4f}")
+        pm = f"{err[li, 0]:6.3f}" if err is not None else f"{'n/a':>6}"
+        lines.append(f"  {wl[li]:5.0f}  {table.R_spec[li, 0]:10.4f}  {table.Rbar[li, 0]:8.4f}  "
+                     f"{table.Tbar[li, 0]:8.4f}  {pm}  {1 - table.Rbar[li, 0] - table.Tbar[li, 0]:6.4f}  "
+                     f"{r60[li]:9.4f}  {t60[li]:9.4f}")
+    lines.append("  (60° columns interpolated between the table's incidence nodes, as the renderer does)")
     for angle in (0.0, 45.0):
         refl = directional_albedo(table, paper, np.radians(angle))
         lab = xyz_to_lab(reflectance_to_xyz(wl, refl))
@@ -105,6 +116,10 @@ def add_parser(sub) -> None:
 
 
 def run(args) -> int:
+    if not (np.isfinite(args.paper) and 0.0 <= args.paper <= 1.0):
+        raise ValueError(f"--paper {args.paper}: the paper albedo must lie in [0, 1]")
+    if args.dphi is not None and not (np.isfinite(args.dphi) and 0.0 <= args.dphi <= 180.0):
+        raise ValueError(f"--dphi {args.dphi}: the azimuth difference must lie in [0, 180] degrees")
     table = read_table(args.file)
     print(summary(table, args.paper))
     if args.png:

@@ -8,7 +8,7 @@ Sources (refractiveindex.info database, commit ff11b589, CC0 1.0):
   Red    = Rhodamine 6G film, Seckin et al., ACS Appl. Mater. Interfaces 15, 43124 (2023).
   Yellow = F8BT film, Kamptner, Scharber, Schiek, ChemPhysChem e202400233 (2024).
   Blue   = ZZ50 (c-PCPDTBT) film, same reference.
-Uniaxial films are made isotropic with k_iso = (2 k_o + k_e) / 3 (DESIGN.md §2), then all
+Uniaxial films are made isotropic with k_iso = (2 k_o + k_e) / 3 (docs/design.md §2), then all
 spectra are linearly resampled to a 5 nm grid over 360–830 nm (Mitsuba's spectral range).
 Only k is kept: the model uses Re(eta) = 1.4 for every pigment (paper §3.1).
 """

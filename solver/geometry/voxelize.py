@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from solver.materials import AIR_EPS, binder_eps, pigment_eps
+from solver.materials import AIR_EPS, MaterialData, default_materials
 
 from .lattice import chunks, grid_windows
 from .shapes import z_chords
@@ -173,15 +173,17 @@ def voxelize(realization, shape=(128, 128, 64), lines=None) -> VoxelFractions:
                           clipped)
 
 
-def eps_grid(vox: VoxelFractions, wavelength_nm: float) -> np.ndarray:
-    """Complex permittivity per voxel (nx, ny, nz) at one wavelength: Σ f_m ε_m(λ)."""
+def eps_grid(vox: VoxelFractions, wavelength_nm: float, materials: MaterialData | None = None) -> np.ndarray:
+    """Complex permittivity per voxel (nx, ny, nz) at one wavelength: Σ f_m ε_m(λ)
+    (material data: the package's unless given)."""
+    data = materials or default_materials()
     eps = np.zeros(vox.shape, dtype=np.complex128)
     for name, frac in zip(vox.materials, vox.fractions):
         if name == "binder":
-            value = complex(binder_eps(wavelength_nm))
+            value = complex(data.binder_eps(wavelength_nm))
         elif name == "air":
             value = complex(AIR_EPS)
         else:
-            value = complex(pigment_eps(name, wavelength_nm))
+            value = complex(data.pigment_eps(name, wavelength_nm))
         eps += value * frac
     return eps

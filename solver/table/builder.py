@@ -1,6 +1,6 @@
 """Build a table for a request: pick the tier, run the work units (cached, resumable), reduce.
 
-    table, path = get_or_build(TableRequest("Y7.5+B7.5", particles="sphere:300"))
+    table, path, built = get_or_build(table_request("Y7.5+B7.5", "sphere:300"))
 
 Nothing is computed twice: finished tables come from the content-addressed cache; the units of
 an interrupted build (geometry per realization, solves per realization × λ, the tier probe)
@@ -12,29 +12,40 @@ from __future__ import annotations
 
 import dataclasses
 import logging
+import os
 import time
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from .. import __version__
-from ..inks import parse_ink
+from . import tier_choice
 from .cache import TableCache
-from .executor import default_workers, run_units
-from .request import TableRequest
-from .schema import SCHEMA_VERSION, InkTable
-from .thinfilm_tier import build_thinfilm_table
-from . import tiers
+from .executor import check_scheduler, default_workers, run_units
+from .meta import table_meta
+from .request import RequestError, TableRequest
+from .schema import InkTable
+from .thinfilm_tier import request_film
 
 log = logging.getLogger("inkbsdf.tables")
 
 
 @dataclass(frozen=True)
 class BuildOptions:
+    """How (not what) to build: execution only, never part of the cache key."""
+
     workers: int = field(default_factory=default_workers)   # local processes (1 = in this process)
     scheduler: str | None = None         # Dask scheduler address: run the units there instead
     progress: bool = True
     cache: TableCache = field(default_factory=TableCache.default)
+
+    def __post_init__(self):
+        if not isinstance(self.workers, (int, np.integer)) or isinstance(self.workers, bool) or self.workers < 1:
+            raise RequestError(f"--workers must be an integer ≥ 1, got {self.workers!r}")
+
+    @property
+    def threads(self) -> int | None:
+        """FFT threads per unit: the cores shared among the local workers (None: the default)."""
+        return max(1, (os.cpu_count() or 1) // self.workers) if self.workers > 1 else None
 
 
 @dataclass
@@ -82,7 +93,7 @@ def _geometry(request, opts, timer):
     from .wave_tier import GeometryUnit, geometry_unit
 
     t0 = time.perf_counter()
-    out = _cached_units(request, opts, [f"geom_r{r}" for r in range(request.realizations)],
+    out = _cached_units(request, opts, [f"geom_r{r}" for r in range(request.wave.realizations)],
                         lambda r: GeometryUnit(request, r), geometry_unit,
                         _voxels_to_arrays, _voxels_from_arrays, "geometry")
     timer.add("geometry", time.perf_counter() - t0)
@@ -95,73 +106,62 @@ def _solves(request, opts, timer, method, voxels, pairs, stage="solve"):
 
     t0 = time.perf_counter()
     out = _cached_units(request, opts, [f"{method}_r{r}_l{li}" for r, li in pairs],
-                        lambda k: SolveUnit(request, pairs[k][0], pairs[k][1], voxels[pairs[k][0]], method),
+                        lambda k: SolveUnit(request, pairs[k][0], pairs[k][1], voxels[pairs[k][0]], method,
+                                            opts.threads),
                         solve_unit, lambda d: d, lambda d: d, f"solve ({method})")
     timer.add(stage, time.perf_counter() - t0)
     return out
 
 
-def _meta(request: TableRequest, tier: str, reason: str, timer: _Timer, extra: dict | None = None) -> dict:
-    from .wave_tier import realization_seed
-
-    meta = {
-        "schema_version": SCHEMA_VERSION, "ink": request.ink,
-        "pigments": [[c, f] for c, f in parse_ink(request.ink).components],
-        "particles": request.particles, "thickness_nm": request.thickness_nm,
-        "tier": tier, "tier_reason": reason, "cache_key": request.key(),
-        "generator": {"name": "inkbsdf.solver", "version": __version__},
-        "settings": request.numeric_fields(),
-        "seeds": [realization_seed(request, r) for r in range(request.realizations)],
-        "timings_s": timer.stages,
-    }
-    meta.update(extra or {})
-    return meta
+def _film_table(request: TableRequest, tier: str, reason: str, timer: _Timer, extra=None) -> InkTable:
+    film = request_film(request)
+    errors = {"model": 0.0 if tier == "thin-film" else (extra or {}).get("tier_probe", {}).get(
+        "deviation", {}).get("effective-medium"), "energy_sum_tol": 1e-9}
+    return dataclasses.replace(film, meta=table_meta(request, tier, reason, timings_s=timer.stages,
+                                                     extra={**(extra or {}), "errors": errors,
+                                                            "mixing_rule": film.meta.get("mixing_rule")}))
 
 
 def build_table(request: TableRequest, opts: BuildOptions | None = None) -> InkTable:
     """Compute the table of a request (no lookup of the finished table; parts are reused)."""
     opts = opts or BuildOptions()
     timer = _Timer()
-    ink = parse_ink(request.ink)
     if request.molecular:
-        table = build_thinfilm_table(ink, request.thickness_nm, request.wavelengths_nm, request.sigma_rad)
-        table.meta.update(cache_key=request.key(), settings=request.numeric_fields())
-        return table
-    from .wave_tier import solved_sigma
-    from .wave_reduce import reduce_units
+        return _film_table(request, "thin-film", "homogeneous layer: exact Airy (transfer-matrix) solution",
+                           timer)
+    if request.polarisation != "te":
+        raise RequestError(f"--polarisation {request.polarisation}: particle inks are solved for TE light only "
+                           "so far; use --polarisation te")
+    from .wave_ensemble import reduce_units
+    from .wave_tier import realization_seed
 
     voxels = None
-    tier, report = request.tier, {}
+    tier, report = request.wave.tier, {}
     if tier == "auto":
         voxels = _geometry(request, opts, timer)
-        probe = tiers.probe_wavelength_indices(request)
+        probe = tier_choice.probe_wavelength_indices(request)
         full = _solves(request, opts, timer, "full", voxels, [(0, li) for li in probe], "tier_probe")
         born = _solves(request, opts, timer, "born", voxels, [(0, li) for li in probe], "tier_probe")
-        tier, report = tiers.choose(request, full, born, probe, solved_sigma(request))
+        tier, report = tier_choice.choose(request, full, born, probe, request.grids.solved_sigma_rad)
         log.info("tier for %s: %s (deviations from full solve: %s)", request.describe(), tier,
                  {k: round(v, 5) for k, v in report["deviation"].items()})
-    reason = (f"measured: cheapest tier within tolerance {request.tolerance:g}" if report
+    reason = (f"measured: cheapest tier within tolerance {request.wave.tolerance:g}" if report
               else "requested explicitly")
     if tier == "effective-medium":
-        film = build_thinfilm_table(ink, request.thickness_nm, request.wavelengths_nm, request.sigma_rad)
-        meta = _meta(request, tier, reason, timer, {"tier_probe": report, "errors": {
-            "model": report.get("deviation", {}).get("effective-medium"), "energy_sum_tol": 1e-9}})
-        meta["seeds"] = []
-        return dataclasses.replace(film, meta=meta)
-    if tier == "thin-film":
-        raise ValueError(f"the thin-film tier is for molecular inks; {request.particles} has particles "
-                         "(use tier 'effective-medium' for the mean-ε film)")
+        return _film_table(request, tier, reason, timer, {"tier_probe": report})
     if voxels is None:
         voxels = _geometry(request, opts, timer)
     method = "born" if tier == "born" else "full"
-    pairs = [(r, li) for r in range(request.realizations) for li in range(len(request.wavelengths_nm))]
+    nl, nr = len(request.grids.wavelengths_nm), request.wave.realizations
+    pairs = [(r, li) for r in range(nr) for li in range(nl)]
     flat = _solves(request, opts, timer, method, voxels, pairs)
-    units = [[flat[r * len(request.wavelengths_nm) + li] for li in range(len(request.wavelengths_nm))]
-             for r in range(request.realizations)]
+    units = [[flat[r * nl + li] for li in range(nl)] for r in range(nr)]
     t0 = time.perf_counter()
-    meta = _meta(request, tier, reason, timer, {"tier_probe": report})
+    meta = table_meta(request, tier, reason, seeds=[realization_seed(request, r) for r in range(nr)],
+                      timings_s=timer.stages, extra={"tier_probe": report})
     table = reduce_units(request, units, meta)
     timer.add("reduce", time.perf_counter() - t0)
+    table.meta["timings_s"] = dict(timer.stages)
     return table
 
 
@@ -170,8 +170,12 @@ def get_or_build(request: TableRequest, opts: BuildOptions | None = None) -> tup
 
     Returns (table, path, built) — built is False on a cache hit (nothing computed)."""
     opts = opts or BuildOptions()
+    opts.cache.check()
     table = opts.cache.load(request)
     if table is None:
+        if opts.scheduler and not request.molecular:
+            check_scheduler(opts.scheduler)
+        opts.cache.sweep()
         with opts.cache.lock(request):          # one builder per table, across threads and processes
             table = opts.cache.load(request)    # built meanwhile by whoever held the lock?
             if table is None:

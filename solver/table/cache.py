@@ -1,33 +1,57 @@
 """Content-addressed table cache with resumable partial results.
 
-    <root>/tables/<key>.npz     finished tables (schema v1), <key>.json the request
+    <root>/tables/<key>.npz     finished tables, <key>.json the request that made them
     <root>/parts/<key>/*.npz    finished work units of a build in progress
+    <root>/locks/<key>.lock     one builder per table (flock)
 
 Root: $INKBSDF_CACHE, else ~/.cache/inkbsdf.  Every write is atomic (temp file + rename), so
 an interrupted build leaves only whole files; the next build reuses them and computes the rest.
+A part that cannot be read or holds non-finite numbers is logged by name, removed and
+recomputed.  Temp files of writers that died (their pid is in the name) and parts of builds
+abandoned for PARTS_MAX_AGE_DAYS are swept when a build starts.
 """
 
 from __future__ import annotations
 
 import contextlib
+import errno
 import fcntl
 import json
+import logging
 import os
 import shutil
+import time
 import zipfile
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from .atomic import atomic_savez
+from .atomic import atomic_savez, atomic_write_text
 from .request import TableRequest
 from .schema import InkTable, TableError, read_table
+
+log = logging.getLogger("inkbsdf.tables")
+PARTS_MAX_AGE_DAYS = 30.0
+
+
+class CacheError(ValueError):
+    """The cache folder cannot be used; the message names it and the fix."""
 
 
 def default_root() -> Path:
     env = os.environ.get("INKBSDF_CACHE")
     return Path(env).expanduser() if env else Path.home() / ".cache" / "inkbsdf"
+
+
+def _pid_alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
 
 
 @dataclass(frozen=True)
@@ -44,33 +68,76 @@ class TableCache:
     def parts_dir(self, request: TableRequest) -> Path:
         return self.root / "parts" / request.key()
 
+    def check(self) -> None:
+        """Create the cache's folders or say in one line why they cannot be used."""
+        where = "$INKBSDF_CACHE" if os.environ.get("INKBSDF_CACHE") and self.root == default_root() else "cache"
+        if self.root.exists() and not self.root.is_dir():
+            raise CacheError(f"{where} {self.root} is a file, not a folder: point it at a folder")
+        try:
+            for sub in ("tables", "parts", "locks"):
+                (self.root / sub).mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise CacheError(f"{where} {self.root} cannot be created ({exc.strerror}): choose a writable "
+                             "folder with --cache or $INKBSDF_CACHE") from None
+        if not os.access(self.root / "tables", os.W_OK | os.X_OK):
+            raise CacheError(f"{where} {self.root} is not writable: choose a writable folder with --cache "
+                             "or $INKBSDF_CACHE")
+
+    def sweep(self) -> None:
+        """Remove temp files of dead writers and parts of builds abandoned long ago."""
+        for tmp in list(self.root.glob("tables/*.tmp")) + list(self.root.glob("parts/*/*.tmp")):
+            try:
+                pid = int(tmp.name.rsplit(".", 3)[-3])
+            except (ValueError, IndexError):
+                continue
+            if not _pid_alive(pid):
+                tmp.unlink(missing_ok=True)
+        cutoff = time.time() - PARTS_MAX_AGE_DAYS * 86400.0
+        for folder in self.root.glob("parts/*"):
+            try:
+                newest = max([folder.stat().st_mtime] + [p.stat().st_mtime for p in folder.iterdir()])
+            except OSError:
+                continue
+            if newest < cutoff:
+                log.info("removing parts of a build abandoned %.0f days ago: %s",
+                         (time.time() - newest) / 86400.0, folder)
+                shutil.rmtree(folder, ignore_errors=True)
+
     def load(self, request: TableRequest) -> InkTable | None:
-        """The finished table, or None when absent (a corrupt entry is reported, not used)."""
+        """The finished table, or None when absent (a corrupt entry is removed, never served)."""
         path = self.table_path(request)
         if not path.exists():
             return None
         try:
             return read_table(path)
-        except TableError:
-            path.unlink(missing_ok=True)         # rebuilt below; never serve a bad file
+        except TableError as exc:
+            log.warning("cached table unusable, rebuilding it: %s", exc)
+            path.unlink(missing_ok=True)
             return None
 
     def store(self, request: TableRequest, table: InkTable) -> Path:
         from .schema import write_table
 
         path = write_table(self.table_path(request), table)
-        meta = self.table_path(request).with_suffix(".json")
-        meta.write_text(json.dumps(request.numeric_fields(), indent=1, sort_keys=True))
+        atomic_write_text(path.with_suffix(".json"),
+                          json.dumps(request.numeric_fields(), indent=1, sort_keys=True, allow_nan=False))
         shutil.rmtree(self.parts_dir(request), ignore_errors=True)
         return path
 
     @contextlib.contextmanager
     def lock(self, request: TableRequest):
-        """Exclusive lock on one table's build (flock: threads and processes alike)."""
+        """Exclusive lock on one table's build (flock: threads and processes alike); says so
+        when it has to wait for another builder."""
         path = self.root / "locks" / f"{request.key()}.lock"
         path.parent.mkdir(parents=True, exist_ok=True)
         with open(path, "a") as fh:
-            fcntl.flock(fh, fcntl.LOCK_EX)
+            try:
+                fcntl.flock(fh, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except OSError as exc:
+                if exc.errno not in (errno.EWOULDBLOCK, errno.EAGAIN):
+                    raise
+                log.info("waiting for another process that is building %s (lock %s)", request.describe(), path)
+                fcntl.flock(fh, fcntl.LOCK_EX)
             try:
                 yield
             finally:
@@ -78,15 +145,23 @@ class TableCache:
 
     # -- partial results of an unfinished build ---------------------------------------------
     def load_part(self, request: TableRequest, name: str) -> dict | None:
+        """A stored unit result, or None (absent, unreadable or non-finite: removed, recomputed)."""
         path = self.parts_dir(request) / f"{name}.npz"
         if not path.exists():
             return None
         try:
             with np.load(path, allow_pickle=False) as npz:
-                return {k: npz[k] for k in npz.files}
-        except (zipfile.BadZipFile, EOFError, OSError, ValueError):
+                part = {k: npz[k] for k in npz.files}
+        except (zipfile.BadZipFile, EOFError, OSError, ValueError) as exc:
+            log.warning("unreadable part %s (%s): recomputing it", path, exc)
             path.unlink(missing_ok=True)
             return None
+        bad = [k for k, v in part.items() if v.dtype.kind in "fc" and not np.all(np.isfinite(v))]
+        if bad:
+            log.warning("part %s holds non-finite values in %s: recomputing it", path, ", ".join(bad))
+            path.unlink(missing_ok=True)
+            return None
+        return part
 
     def store_part(self, request: TableRequest, name: str, arrays: dict) -> None:
-        atomic_savez(self.parts_dir(request) / f"{name}.npz", arrays)
+        atomic_savez(self.parts_dir(request) / f"{name}.npz", arrays, durable=False)

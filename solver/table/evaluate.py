@@ -1,4 +1,4 @@
-"""Reference (numpy) evaluation of the ink-on-paper BRDF from a table (DESIGN.md §1).
+"""Reference (numpy) evaluation of the ink-on-paper BRDF from a table (docs/design.md §1).
 
     f(σ, θ, Δφ) = ( R(σ, θ, Δφ) + r·T̄(σ)·T̄(θ) / (1 − r·ρ̄) ) / π  +  R_spec(σ)·δ(mirror)
     ρ̄ = 2∫ Rbar_below(s) cos s sin s ds
@@ -13,29 +13,23 @@ from __future__ import annotations
 import numpy as np
 
 from .integrals import diffuse_albedo, hemispherical_mean
+from .interpolation import lerp_weights
 from .schema import InkTable
-
-
-def _lerp_weights(grid: np.ndarray, x) -> tuple[np.ndarray, np.ndarray]:
-    """Lower node index and fraction for linear interpolation, clamped to the grid."""
-    x = np.clip(np.asarray(x, dtype=float), grid[0], grid[-1])
-    i = np.clip(np.searchsorted(grid, x, side="right") - 1, 0, grid.size - 2)
-    return i, (x - grid[i]) / (grid[i + 1] - grid[i])
 
 
 def column_at(table: InkTable, name: str, polar_rad) -> np.ndarray:
     """A [λ, σ] column interpolated at polar angles: shape (nλ,) + shape(polar_rad)."""
     col = table.column(name)
-    i, t = _lerp_weights(table.sigma, polar_rad)
+    i, t = lerp_weights(table.sigma, polar_rad)
     return col[:, i] * (1 - t) + col[:, i + 1] * t
 
 
 def brdf_R_at(table: InkTable, sigma_rad, theta_rad, dphi_rad) -> np.ndarray:
     """Multilinear R(σ, θ, Δφ) per wavelength; inputs broadcast together."""
     s, th, ph = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (sigma_rad, theta_rad, dphi_rad)))
-    i, ti = _lerp_weights(table.sigma, s)
-    j, tj = _lerp_weights(table.theta, th)
-    k, tk = _lerp_weights(table.dphi, np.abs(ph))
+    i, ti = lerp_weights(table.sigma, s)
+    j, tj = lerp_weights(table.theta, th)
+    k, tk = lerp_weights(table.dphi, np.abs(ph))
     out = 0.0
     for di, wi in ((0, 1 - ti), (1, ti)):
         for dj, wj in ((0, 1 - tj), (1, tj)):
@@ -46,8 +40,8 @@ def brdf_R_at(table: InkTable, sigma_rad, theta_rad, dphi_rad) -> np.ndarray:
 
 def _paper(table: InkTable, paper) -> np.ndarray:
     r = np.broadcast_to(np.asarray(paper, dtype=float), table.wavelengths.shape)
-    if np.any(r < 0) or np.any(r > 1):
-        raise ValueError("paper albedo must lie in [0, 1]")
+    if not np.all((r >= 0) & (r <= 1)):           # NaN fails too
+        raise ValueError(f"paper albedo must lie in [0, 1], got {paper!r}")
     return r
 
 
@@ -75,7 +69,7 @@ def directional_albedo(table: InkTable, paper, polar_rad) -> np.ndarray:
     gain = multiple_reflection_gain(table, paper)
     tau = hemispherical_mean(table.sigma, table.Tbar)
     layer_diffuse = diffuse_albedo(table.theta, table.dphi, table.R)      # [λ, σ]
-    i, t = _lerp_weights(table.sigma, polar_rad)
+    i, t = lerp_weights(table.sigma, polar_rad)
     layer = layer_diffuse[:, i] * (1 - t) + layer_diffuse[:, i + 1] * t
     extra = (slice(None),) + (None,) * np.ndim(polar_rad)
     return (column_at(table, "R_spec", polar_rad) + layer

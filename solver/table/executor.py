@@ -4,28 +4,111 @@ Units are pure functions of their arguments, results are collected by the caller
 order, so the table is identical whatever the number of workers or where they run.
 `on_result(index, result)` is called in the parent as each unit finishes (to persist it);
 a tqdm bar shows progress and ETA.
+
+No worker outlives its build: local workers ask the kernel to kill them when their parent dies
+(Linux PR_SET_PDEATHSIG, so even `kill -9` of the build leaves nothing behind), ignore Ctrl-C
+(the parent stops them), and are killed when the parent is interrupted or fails.
 """
 
 from __future__ import annotations
 
+import ctypes
 import logging
 import multiprocessing
 import os
-from concurrent.futures import ProcessPoolExecutor, as_completed
+import signal
+import socket
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from typing import Any, Callable, Sequence
+from urllib.parse import urlparse
 
 from tqdm import tqdm
 
 log = logging.getLogger("inkbsdf.tables")
 
+_PR_SET_PDEATHSIG = 1
 
-def _init_worker(threads: int) -> None:
-    os.environ["INKBSDF_THREADS"] = str(threads)
+
+class SchedulerError(ValueError):
+    """The Dask scheduler named by --scheduler cannot be reached."""
 
 
 def default_workers() -> int:
     """Local worker processes by default: one per core."""
     return max(1, os.cpu_count() or 1)
+
+
+def _init_worker(parent_pid: int) -> None:
+    """In each pool worker: die with the parent, leave Ctrl-C to the parent."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+    except (OSError, AttributeError):      # not Linux: the parent's cleanup below still applies
+        pass
+    if os.getppid() != parent_pid:         # the parent died before prctl took effect
+        os._exit(1)
+
+
+def check_scheduler(address: str, timeout_s: float = 5.0) -> None:
+    """Refuse an unreachable Dask scheduler in seconds, with one line (before any work)."""
+    url = urlparse(address if "://" in address else f"tcp://{address}")
+    try:
+        port = url.port
+    except ValueError:
+        port = None
+    if url.scheme not in ("tcp", "tls") or not url.hostname or not port:
+        raise SchedulerError(f"--scheduler {address!r}: expected tcp://HOST:PORT")
+    try:
+        with socket.create_connection((url.hostname, port), timeout=timeout_s):
+            pass
+    except OSError as exc:
+        raise SchedulerError(f"--scheduler {address}: cannot reach the Dask scheduler ({exc.strerror or exc}); "
+                             "start it (`dask scheduler`) or leave out --scheduler to use local workers") from None
+
+
+def _stop(pool: ProcessPoolExecutor) -> None:
+    """Cancel what has not started and kill the workers now (an interrupt or a failure)."""
+    processes = list((getattr(pool, "_processes", None) or {}).values())
+    pool.shutdown(wait=False, cancel_futures=True)
+    for proc in processes:
+        if proc.is_alive():
+            proc.kill()
+    for proc in processes:
+        proc.join(timeout=5)
+
+
+def _run_pool(fn, units, workers, done) -> None:
+    # spawn, not fork: the caller may be a multithreaded process (a Mitsuba scene load); each
+    # unit carries its own FFT thread count
+    pool = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"),
+                               initializer=_init_worker, initargs=(os.getpid(),))
+    try:
+        futures = {pool.submit(fn, unit): i for i, unit in enumerate(units)}
+        pending = set(futures)
+        while pending:
+            finished, pending = wait(pending, return_when=FIRST_COMPLETED)
+            for fut in finished:
+                done(futures[fut], fut.result())
+    except BaseException:
+        _stop(pool)
+        raise
+    pool.shutdown(wait=True)
+
+
+def _run_dask(fn, units, scheduler, done) -> None:
+    from distributed import Client, as_completed as dask_completed
+
+    check_scheduler(scheduler)
+    with Client(scheduler, timeout="10s") as client:
+        futures = client.map(fn, list(units), pure=False)
+        index = {f.key: i for i, f in enumerate(futures)}
+        try:
+            for fut, res in dask_completed(futures, with_results=True):
+                done(index[fut.key], res)
+        except BaseException:
+            client.cancel(futures)
+            raise
 
 
 def run_units(fn: Callable, units: Sequence[Any], *, workers: int = 1, scheduler: str | None = None,
@@ -45,24 +128,12 @@ def run_units(fn: Callable, units: Sequence[Any], *, workers: int = 1, scheduler
 
     try:
         if scheduler:
-            from distributed import Client, as_completed as dask_completed
-
-            with Client(scheduler) as client:
-                futures = client.map(fn, list(units), pure=False)
-                index = {f.key: i for i, f in enumerate(futures)}
-                for fut, res in dask_completed(futures, with_results=True):
-                    done(index[fut.key], res)
+            _run_dask(fn, units, scheduler, done)
         elif workers <= 1 or len(units) == 1:
             for i, unit in enumerate(units):
                 done(i, fn(unit))
         else:
-            threads = max(1, (os.cpu_count() or 1) // workers)
-            # spawn, not fork: the caller may be a multithreaded process (a Mitsuba scene load)
-            with ProcessPoolExecutor(max_workers=workers, initializer=_init_worker, initargs=(threads,),
-                                     mp_context=multiprocessing.get_context("spawn")) as pool:
-                futures = {pool.submit(fn, unit): i for i, unit in enumerate(units)}
-                for fut in as_completed(futures):
-                    done(futures[fut], fut.result())
+            _run_pool(fn, units, min(workers, len(units)), done)
     finally:
         bar.close()
     return results

@@ -1,107 +1,189 @@
-"""What a table is computed from: the request, and its content address.
+"""What a table is computed from: the typed request, every default, and its content address.
 
-The cache key hashes everything that changes the numbers and nothing else: for a molecular ink
-only the ink, thickness and the λ/σ grids; for a particle ink also the particles, the cell, the
-grid, the realizations, the azimuth samples, the tolerances, the seed and the code versions.
+Every entry point (the CLI, a scene's in-scene ink, the demo, the benchmarks, the figures)
+makes its request with `table_request(...)`, which parses the ink and particle strings once into
+typed objects and fills every default from this module — the same ink from any entry point is
+the same table, with the same cache key.
+
+    req = table_request("Y7.5+B7.5", "sphere:300")             # particle ink, default accuracy
+    req = table_request("R30")                                 # molecular: the exact thin film
+    req = table_request("Y15/B15")                             # Y15 printed over B15 (a stack)
+    req.key()                                                  # content address in the cache
+
+The key hashes everything that changes the numbers: the layers (molecular inks by their
+base-pigment composition: a molecular G30 is Y15+B15), the grids, the wave settings of particle
+inks, the polarisation, a fingerprint of the material data (`MaterialData.fingerprint`) and a
+fingerprint of the code of the stages that produce the numbers (`fingerprint.code_fingerprint`).
+Lengths in nm, angles in radians.
 """
 
 from __future__ import annotations
 
 import hashlib
 import json
+import math
 from dataclasses import asdict, dataclass, field, replace
 
 import numpy as np
 
-from ..inks import parse_ink
-
-#: Bump when the numbers a table pipeline produces change for the same request.
-PIPELINE_VERSION = {"thin-film": 1, "wave": 1}
-
-DEFAULT_WAVELENGTHS_NM = tuple(float(w) for w in np.arange(380.0, 781.0, 20.0))        # 21
-#: Solved incidence angles for particle inks; 90° is added analytically (grazing limit).
-DEFAULT_PARTICLE_SIGMA_DEG = (0.0, 15.0, 30.0, 45.0, 60.0, 70.0, 80.0)
-DEFAULT_FILM_SIGMA_COUNT = 46
+from ..geometry.spec import MOLECULAR_WORDS, ParticleSpec, parse_particles
+from ..inks import Ink, parse_ink
+from ..materials import MaterialData, default_materials
+from .fingerprint import code_fingerprint
+from .schema import POLARISATIONS
 
 
-def _canonical_particles(text: str) -> str:
-    from ..geometry.spec import parse_particles
-
-    spec = parse_particles(text)
-    return "molecular" if spec is None else spec.label
+class RequestError(ValueError):
+    """A table request that cannot be computed as asked; the message names the option."""
 
 
-def _base_composition(ink_label: str) -> list:
-    """Volume fractions of the base pigments (mixes such as G expanded), rounded, sorted."""
-    from ..materials import get_pigment
+# ---------------------------------------------------------------------------- the defaults
+DEFAULT_THICKNESS_NM = 1000.0
+DEFAULT_POLARISATION = "te"
+#: "Y15/B15": Y15 printed over B15 (layers top first)
+LAYER_SEPARATOR = "/"
+#: molecular inks (exact thin film, cheap): 10-nm steps and 46 uniform incidence angles
+FILM_WAVELENGTH_STEP_NM = 10.0
+FILM_SIGMA_COUNT = 46
+#: particle inks: 20-nm steps; solved incidence angles (90° is added as its analytic limit)
+PARTICLE_WAVELENGTH_STEP_NM = 20.0
+PARTICLE_SIGMA_DEG = (0.0, 15.0, 30.0, 45.0, 60.0, 70.0, 80.0)
+WAVELENGTH_RANGE_NM = (380.0, 780.0)
+DPHI_COUNT = 13
+TIERS = ("auto", "thin-film", "effective-medium", "born", "full")
 
-    total: dict[str, float] = {}
-    for code, fraction in parse_ink(ink_label).components:
-        parts = get_pigment(code).parts or ((code, 1.0),)
-        for base, weight in parts:
-            total[base] = total.get(base, 0.0) + fraction * weight
-    return sorted([c, round(f, 12)] for c, f in total.items())
+
+@dataclass(frozen=True)
+class WaveSettings:
+    """How a particle layer is sampled and solved (docs/tables.md)."""
+
+    cell_nm: float = 2000.0                    # lateral period of the random cell
+    grid: tuple[int, int, int] = (64, 64, 32)  # voxels (x, y, z)
+    realizations: int = 4                      # random cells per wavelength
+    azimuths: int = 2                          # incidence azimuths per realization
+    solver_tol: float = 1e-4                   # wave solver relative residual
+    tolerance: float = 0.01                    # tier choice: allowed error in Rbar, Tbar, diffuse
+    seed: int = 1
+    tier: str = "auto"
+
+
+#: accuracy presets of particle inks (wave settings and wavelength step); docs/tables.md has
+#: each preset's measured colour error against `fine` and its cost
+ACCURACY = {
+    "preview": (WaveSettings(grid=(48, 48, 24), realizations=2, azimuths=1, solver_tol=1e-3), 40.0),
+    "default": (WaveSettings(), PARTICLE_WAVELENGTH_STEP_NM),
+    "fine": (WaveSettings(grid=(96, 96, 48), realizations=8), 10.0),
+}
+#: the CLI name of each option, for messages
+OPTION = {"thickness_nm": "--thickness", "wavelengths_nm": "--wavelengths", "sigma_rad": "--angles",
+          "cell_nm": "--cell", "grid": "--grid", "realizations": "--realizations",
+          "azimuths": "--azimuths", "dphi_count": "--dphi-count", "solver_tol": "--solver-tol",
+          "tolerance": "--tolerance", "seed": "--seed", "tier": "--tier",
+          "polarisation": "--polarisation", "accuracy": "--accuracy", "particles": "--particles",
+          "ink": "--ink"}
+MIN_GRID = (8, 8, 4)
+
+
+# ---------------------------------------------------------------------------- typed parts
+@dataclass(frozen=True)
+class Layer:
+    """One printed layer: ink composition, its grains (None: molecular) and thickness."""
+
+    ink: Ink
+    particles: ParticleSpec | None
+    thickness_nm: float = DEFAULT_THICKNESS_NM
+
+    @property
+    def molecular(self) -> bool:
+        return self.particles is None
+
+    @property
+    def particles_label(self) -> str:
+        return "molecular" if self.particles is None else self.particles.label
+
+    def numeric_fields(self) -> dict:
+        d = {"composition": [list(c) for c in self.ink.base_composition()],
+             "thickness_nm": float(self.thickness_nm)}
+        if not self.molecular:
+            d["pigments"] = [[c, round(f, 12)] for c, f in self.ink.components]
+            d["particles"] = self.particles.label
+        return d
+
+
+@dataclass(frozen=True)
+class Grids:
+    """The table's sampling: wavelengths (nm), incidence polar angles σ (rad, 0 … π/2, also the
+    outgoing θ grid of R) and the number of Δφ nodes of R over [0, π]."""
+
+    wavelengths_nm: tuple[float, ...]
+    sigma_rad: tuple[float, ...]
+    dphi_count: int = DPHI_COUNT
+
+    @property
+    def dphi_rad(self) -> np.ndarray:
+        return np.linspace(0.0, np.pi, self.dphi_count)
+
+    @property
+    def solved_mask(self) -> np.ndarray:
+        """Which σ nodes are solved: all but grazing 90°, whose value is its analytic limit."""
+        return np.asarray(self.sigma_rad) < np.pi / 2 - 1e-9
+
+    @property
+    def solved_sigma_rad(self) -> np.ndarray:
+        return np.asarray(self.sigma_rad)[self.solved_mask]
 
 
 @dataclass(frozen=True)
 class TableRequest:
-    """Everything that determines a table's numbers (lengths nm, angles rad)."""
+    """Everything that determines a table's numbers.  Build with `table_request(...)`."""
 
-    ink: str
-    particles: str = "molecular"
-    thickness_nm: float = 1000.0
-    wavelengths_nm: tuple[float, ...] = DEFAULT_WAVELENGTHS_NM
-    sigma_rad: tuple[float, ...] = ()          # () = the default grid for the kind of ink
-    # particle inks only:
-    cell_nm: float = 2000.0
-    grid: tuple[int, int, int] = (64, 64, 32)
-    realizations: int = 4
-    azimuths: int = 2                          # incidence azimuths per realization
-    dphi_count: int = 13                       # Δφ nodes of R over [0, π]
-    solver_tol: float = 1e-4
-    tolerance: float = 0.01                    # tier choice: allowed error in Rbar, Tbar, R_spec
-    seed: int = 1
-    tier: str = "auto"                         # auto | thin-film | effective-medium | born | full
-    extra: dict = field(default_factory=dict, compare=False, hash=False)
+    layers: tuple[Layer, ...]                   # top first; one for an ordinary ink
+    grids: Grids
+    wave: WaveSettings | None = None            # None when every layer is molecular
+    polarisation: str = DEFAULT_POLARISATION
+    materials: MaterialData = field(default_factory=default_materials)
+    accuracy: str = "default"                   # the preset the settings came from (a label)
 
-    def __post_init__(self):
-        object.__setattr__(self, "ink", parse_ink(self.ink).label)
-        object.__setattr__(self, "particles", _canonical_particles(self.particles))
-        object.__setattr__(self, "wavelengths_nm", tuple(float(w) for w in self.wavelengths_nm))
-        if not self.sigma_rad:
-            if self.molecular:
-                sigma = np.linspace(0.0, np.pi / 2, DEFAULT_FILM_SIGMA_COUNT)
-            else:
-                sigma = np.radians(DEFAULT_PARTICLE_SIGMA_DEG + (90.0,))
-            object.__setattr__(self, "sigma_rad", tuple(float(s) for s in sigma))
-        object.__setattr__(self, "sigma_rad", tuple(float(s) for s in self.sigma_rad))
-        object.__setattr__(self, "grid", tuple(int(n) for n in self.grid))
-        if not self.thickness_nm > 0:
-            raise ValueError(f"layer thickness must be > 0 nm, got {self.thickness_nm}")
-        if len(self.wavelengths_nm) < 2 or np.any(np.diff(self.wavelengths_nm) <= 0):
-            raise ValueError("wavelengths must be ≥ 2 strictly increasing values (nm)")
-        s = np.asarray(self.sigma_rad)
-        if s.size < 2 or abs(s[0]) > 1e-12 or abs(s[-1] - np.pi / 2) > 1e-12 or np.any(np.diff(s) <= 0):
-            raise ValueError("incidence angles must increase strictly from 0° to 90°")
-        if self.realizations < 1 or self.azimuths < 1:
-            raise ValueError("realizations and azimuths must be ≥ 1")
-        if self.tier not in ("auto", "thin-film", "effective-medium", "born", "full"):
-            raise ValueError(f"unknown tier {self.tier!r}")
-
+    # ---- conveniences for the common single-layer case
     @property
     def molecular(self) -> bool:
-        return self.particles == "molecular"
+        return all(layer.molecular for layer in self.layers)
+
+    @property
+    def layer(self) -> Layer:
+        if len(self.layers) != 1:
+            raise RequestError(f"{self.ink_label} is a stack of {len(self.layers)} layers")
+        return self.layers[0]
+
+    @property
+    def ink_label(self) -> str:
+        return LAYER_SEPARATOR.join(layer.ink.label for layer in self.layers)
+
+    @property
+    def particles_label(self) -> str:
+        labels = [layer.particles_label for layer in self.layers]
+        return labels[0] if len(set(labels)) == 1 else LAYER_SEPARATOR.join(labels)
+
+    @property
+    def thickness_nm(self) -> float:
+        """Total thickness of the layers, nm."""
+        return float(sum(layer.thickness_nm for layer in self.layers))
+
+    @property
+    def kind(self) -> str:
+        return "film" if self.molecular else "wave"
 
     def numeric_fields(self) -> dict:
         """The fields that change the numbers (the cache key's content)."""
-        d = asdict(self)
-        d.pop("extra")
-        if self.molecular:
-            d = {k: d[k] for k in ("particles", "thickness_nm", "wavelengths_nm", "sigma_rad")}
-            d["composition"] = _base_composition(self.ink)   # G30 ≡ Y15+B15 when molecular
-            d["pipeline"] = PIPELINE_VERSION["thin-film"]
-        else:
-            d["pipeline"] = PIPELINE_VERSION
+        d = {"layers": [layer.numeric_fields() for layer in self.layers],
+             "wavelengths_nm": list(self.grids.wavelengths_nm),
+             "sigma_rad": list(self.grids.sigma_rad),
+             "polarisation": self.polarisation,
+             "materials": self.materials.fingerprint,
+             "code": code_fingerprint(self.kind)}
+        if not self.molecular:
+            d["dphi_count"] = self.grids.dphi_count
+            d["wave"] = asdict(self.wave)
         return d
 
     def key(self) -> str:
@@ -109,12 +191,189 @@ class TableRequest:
         return hashlib.sha256(text.encode()).hexdigest()[:24]
 
     def describe(self) -> str:
-        what = f"{self.ink} {self.particles} H={self.thickness_nm:g} nm"
+        what = (f"{self.ink_label} {self.particles_label} H={'/'.join(f'{l.thickness_nm:g}' for l in self.layers)} nm"
+                f", {self.polarisation}")
         if self.molecular:
             return what
-        return (f"{what}, {len(self.wavelengths_nm)} λ × {len(self.sigma_rad)} σ, "
-                f"{self.realizations} realizations × {self.azimuths} azimuths, grid "
-                f"{'×'.join(map(str, self.grid))} over {self.cell_nm:g} nm")
+        w = self.wave
+        return (f"{what}, {len(self.grids.wavelengths_nm)} λ × {len(self.grids.sigma_rad)} σ, "
+                f"{w.realizations} realizations × {w.azimuths} azimuths, grid "
+                f"{'×'.join(map(str, w.grid))} over {w.cell_nm:g} nm")
 
-    def with_(self, **changes) -> "TableRequest":
-        return replace(self, **changes)
+    def with_wave(self, **changes) -> "TableRequest":
+        """The same request with some wave settings changed (validated)."""
+        req = replace(self, wave=replace(self.wave, **changes))
+        validate(req)
+        return req
+
+    def with_grids(self, **changes) -> "TableRequest":
+        req = replace(self, grids=replace(self.grids, **changes))
+        validate(req)
+        return req
+
+
+# ---------------------------------------------------------------------------- parsing helpers
+def wavelength_range(text: str) -> tuple[float, ...]:
+    """'380:780:10' → 380, 390, …, 780 nm (inclusive); a single number gives one value."""
+    parts = str(text).split(":")
+    try:
+        values = [float(p) for p in parts]
+    except ValueError:
+        raise RequestError(f"--wavelengths {text!r}: expected START:STOP:STEP in nm, e.g. 380:780:10") from None
+    if not all(math.isfinite(v) for v in values):
+        raise RequestError(f"--wavelengths {text!r}: values must be finite numbers of nm")
+    if len(values) == 1:
+        return (values[0],)
+    if len(values) != 3 or values[2] <= 0 or values[1] < values[0]:
+        raise RequestError(f"--wavelengths {text!r}: expected START:STOP:STEP with STEP > 0 and STOP ≥ START")
+    start, stop, step = values
+    n = int(math.floor((stop - start) / step + 1e-9)) + 1
+    if n > 100_000:
+        raise RequestError(f"--wavelengths {text!r} asks for {n:,} wavelengths; use a step of ≥ 1 nm")
+    return tuple(float(v) for v in start + step * np.arange(n))
+
+
+def uniform_angles(count: int) -> tuple[float, ...]:
+    """`count` incidence angles uniformly from 0 to 90° inclusive (radians)."""
+    if not isinstance(count, (int, np.integer)) or count < 2:
+        raise RequestError(f"--angles is a count of incidence angles from 0° to 90° inclusive, ≥ 2; got {count!r}")
+    return tuple(float(s) for s in np.linspace(0.0, np.pi / 2, int(count)))
+
+
+def _default_wavelengths(step_nm: float) -> tuple[float, ...]:
+    lo, hi = WAVELENGTH_RANGE_NM
+    return tuple(float(w) for w in np.arange(lo, hi + 0.5 * step_nm, step_nm))
+
+
+def _layers(ink, particles, thickness_nm) -> tuple[Layer, ...]:
+    if isinstance(ink, (tuple, list)) and ink and all(isinstance(x, Layer) for x in ink):
+        return tuple(ink)
+    inks = [parse_ink(x) for x in (ink.split(LAYER_SEPARATOR) if isinstance(ink, str) else [ink])]
+    if isinstance(particles, str):
+        parts = particles.split(LAYER_SEPARATOR)
+    else:
+        parts = [particles]
+    if len(parts) == 1:
+        parts = parts * len(inks)
+    if len(parts) != len(inks):
+        raise RequestError(f"--particles {particles!r} names {len(parts)} layers, the ink {ink!r} has {len(inks)}")
+    specs = [None if p is None or (isinstance(p, str) and p.strip().lower() in MOLECULAR_WORDS)
+             else p if isinstance(p, ParticleSpec) else parse_particles(p) for p in parts]
+    thick = thickness_nm if isinstance(thickness_nm, (tuple, list)) else [thickness_nm] * len(inks)
+    if len(thick) != len(inks):
+        raise RequestError(f"--thickness gives {len(thick)} values for {len(inks)} layers")
+    layers = []
+    for ink_, spec, h in zip(inks, specs, thick):
+        h = DEFAULT_THICKNESS_NM if h is None else h
+        try:
+            h = float(h)
+        except (TypeError, ValueError):
+            raise RequestError(f"--thickness {h!r} is not a number of nm") from None
+        layers.append(Layer(ink_, spec, h))
+    return tuple(layers)
+
+
+def table_request(ink, particles="molecular", *, thickness_nm=None, accuracy: str = "default",
+                  wavelengths_nm=None, sigma_rad=None, dphi_count: int = DPHI_COUNT,
+                  polarisation: str = DEFAULT_POLARISATION, materials: MaterialData | None = None,
+                  **wave_overrides) -> TableRequest:
+    """The request for an ink, with every default filled from this module and validated.
+
+    ink: a spec ('R30', 'Y7.5+B7.5', 'G30', 'clear', 'Y15/B15' for Y15 printed over B15) or Ink;
+    particles: 'molecular' or a particle spec (one for all layers, or 'a/b' per layer);
+    thickness_nm: per layer (a number, or one per layer); accuracy: a key of ACCURACY;
+    wavelengths_nm / sigma_rad: explicit grids (else the defaults for the kind of ink);
+    wave_overrides: fields of WaveSettings (cell_nm, grid, realizations, azimuths, solver_tol,
+    tolerance, seed, tier).
+    """
+    if accuracy not in ACCURACY:
+        raise RequestError(f"--accuracy {accuracy!r}: choose one of {', '.join(ACCURACY)}")
+    unknown = set(wave_overrides) - set(WaveSettings.__dataclass_fields__)
+    if unknown:
+        raise RequestError(f"unknown table option(s) {', '.join(sorted(unknown))}: expected some of "
+                           + ", ".join(WaveSettings.__dataclass_fields__))
+    layers = _layers(ink, particles, thickness_nm)
+    molecular = all(layer.molecular for layer in layers)
+    preset, step = ACCURACY[accuracy]
+    if wavelengths_nm is None:
+        wavelengths_nm = _default_wavelengths(FILM_WAVELENGTH_STEP_NM if molecular else step)
+    if sigma_rad is None:
+        sigma_rad = (np.linspace(0.0, np.pi / 2, FILM_SIGMA_COUNT) if molecular
+                     else np.radians(PARTICLE_SIGMA_DEG + (90.0,)))
+    grids = Grids(tuple(float(w) for w in np.atleast_1d(wavelengths_nm)),
+                  tuple(float(s) for s in np.atleast_1d(sigma_rad)), int(dphi_count))
+    tier = wave_overrides.get("tier", "auto")
+    if molecular and tier not in ("auto", "thin-film"):
+        raise RequestError(f"--tier {tier}: a molecular ink is an exact thin film; give --particles "
+                           "to use the wave tiers")
+    wave = None
+    if not molecular:
+        fields = dict(asdict(preset), **wave_overrides)
+        fields["grid"] = tuple(fields["grid"])
+        wave = WaveSettings(**fields)
+    elif set(wave_overrides) - {"tier"}:
+        import warnings     # settings of the wave solver mean nothing for a homogeneous layer
+
+        warnings.warn(f"{'/'.join(l.ink.label for l in layers)} is molecular (an exact thin film): "
+                      f"{', '.join(OPTION.get(k, k) for k in sorted(set(wave_overrides) - {'tier'}))} "
+                      "ignored", stacklevel=2)
+    req = TableRequest(layers, grids, wave, polarisation, materials or default_materials(), accuracy)
+    validate(req)
+    return req
+
+
+# ---------------------------------------------------------------------------- validation
+def _finite_positive(value, what: str) -> None:
+    if not (isinstance(value, (int, float, np.floating, np.integer)) and math.isfinite(value) and value > 0):
+        raise RequestError(f"{what} must be a positive finite number, got {value!r}")
+
+
+def validate(req: TableRequest) -> None:
+    """Refuse meaningless requests with one line naming the option (before any work)."""
+    if not req.layers:
+        raise RequestError("a table needs at least one layer (--ink)")
+    for layer in req.layers:
+        _finite_positive(layer.thickness_nm, f"{OPTION['thickness_nm']} (layer thickness, nm)")
+        if not layer.ink.components and not layer.molecular:
+            raise RequestError(f"--particles {layer.particles.label}: 'clear' has no pigment to make grains "
+                               "of; use --particles molecular")
+    wl = np.asarray(req.grids.wavelengths_nm)
+    if wl.size < 2 or not np.all(np.isfinite(wl)) or np.any(np.diff(wl) <= 0):
+        raise RequestError(f"{OPTION['wavelengths_nm']}: need ≥ 2 strictly increasing finite wavelengths (nm)")
+    try:
+        req.materials.check_range(wl, OPTION["wavelengths_nm"])
+    except ValueError as exc:
+        raise RequestError(str(exc)) from None
+    s = np.asarray(req.grids.sigma_rad)
+    if s.size < 2 or not np.all(np.isfinite(s)) or abs(s[0]) > 1e-12 or abs(s[-1] - np.pi / 2) > 1e-12 \
+            or np.any(np.diff(s) <= 0):
+        raise RequestError(f"{OPTION['sigma_rad']}: incidence angles must increase strictly from 0° to 90°")
+    if not (isinstance(req.grids.dphi_count, (int, np.integer)) and req.grids.dphi_count >= 3):
+        raise RequestError(f"{OPTION['dphi_count']} must be an integer ≥ 3, got {req.grids.dphi_count!r}")
+    if req.polarisation not in POLARISATIONS:
+        raise RequestError(f"{OPTION['polarisation']} {req.polarisation!r}: choose one of {', '.join(POLARISATIONS)}")
+    if req.wave is None:
+        return
+    w = req.wave
+    _finite_positive(w.cell_nm, f"{OPTION['cell_nm']} (cell period, nm)")
+    if len(w.grid) != 3 or any(not isinstance(n, (int, np.integer)) for n in w.grid) \
+            or any(n < m for n, m in zip(w.grid, MIN_GRID)):
+        raise RequestError(f"{OPTION['grid']} {' '.join(map(str, w.grid))}: need at least "
+                           f"{' '.join(map(str, MIN_GRID))} voxels (NX NY NZ) for a meaningful table")
+    for name in ("realizations", "azimuths"):
+        value = getattr(w, name)
+        if not isinstance(value, (int, np.integer)) or value < 1:
+            raise RequestError(f"{OPTION[name]} must be an integer ≥ 1, got {value!r}")
+    if not (isinstance(w.solver_tol, (int, float)) and math.isfinite(w.solver_tol) and 0 < w.solver_tol < 0.5):
+        raise RequestError(f"{OPTION['solver_tol']} (wave solver relative residual) must lie in (0, 0.5), "
+                           f"got {w.solver_tol!r}")
+    if not (isinstance(w.tolerance, (int, float)) and math.isfinite(w.tolerance) and 0 < w.tolerance <= 1):
+        raise RequestError(f"{OPTION['tolerance']} (allowed model error when choosing the tier) must lie in "
+                           f"(0, 1], got {w.tolerance!r}")
+    if not isinstance(w.seed, (int, np.integer)) or w.seed < 0:
+        raise RequestError(f"{OPTION['seed']} must be an integer ≥ 0, got {w.seed!r}")
+    if w.tier not in TIERS:
+        raise RequestError(f"{OPTION['tier']} {w.tier!r}: choose one of {', '.join(TIERS)}")
+    if w.tier == "thin-film":
+        raise RequestError(f"{OPTION['tier']} thin-film is for molecular inks; with particles use "
+                           "'effective-medium' for the mean-ε film")

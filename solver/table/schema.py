@@ -1,4 +1,4 @@
-"""Table file, schema v1: the contract between the solver (writer) and the plugin (reader).
+"""Table file, schema v2: the contract between the solver (writer) and the plugin (reader).
 
 A `.npz` holding, per wavelength λ (nm) and incidence σ (rad):
 
@@ -10,11 +10,24 @@ A `.npz` holding, per wavelength λ (nm) and incidence σ (rad):
                                   values of a multilinear interpolant
     R_spec, T_coh, Rbar, Tbar, Rbar_below   [nλ, nσ]
     <name>_err  (optional, same shape as <name>): standard error across realizations
-    meta        JSON string (schema_version, ink, particles, thickness_nm, generator,
-                settings, seeds, error estimates, tier, ...)
+    meta        JSON string (schema_version, polarisation, ink, particles, thickness_nm,
+                generator, settings, seeds, error estimates, tier, ...)
 
 Rbar and Tbar include the coherent (00) orders; Rbar = R_spec + hemispherical integral of R.
 All angular integrals use `solver.table.integrals` (exact for the linear interpolant).
+
+Polarisation (v2; docs/polarisation.md).  meta "polarisation" is "unpolarised" (every column
+is the mean (s + p)/2 of the s and p power fractions) or "te" (s light only: the scalar model
+as it is); absent means "te" (the scalar wave tiers' tables).  An "unpolarised" table may add, in pairs:
+
+    r_s, r_p        [nλ, nσ] complex128: amplitude reflection coefficients of the mirror beam,
+                    in Mitsuba's `fresnel_polarized` convention (a_s, a_p: Verdet sign of a_p,
+                    η = n − iκ phases), reference plane the layer's top face;
+                    (|r_s|² + |r_p|²)/2 = R_spec
+    Rbar_s, Rbar_p  [nλ, nσ] real: s and p parts of Rbar, (Rbar_s + Rbar_p)/2 = Rbar
+    Tbar_s, Tbar_p  [nλ, nσ] real: s and p parts of Tbar, (Tbar_s + Tbar_p)/2 = Tbar
+
+Version 1 files (no polarisation key, no s/p arrays) still read, as polarisation "te".
 """
 
 from __future__ import annotations
@@ -30,9 +43,15 @@ import numpy as np
 from .atomic import atomic_savez
 from .integrals import diffuse_albedo
 
-SCHEMA_VERSION = 1
+SCHEMA_VERSION = 2
+READABLE_VERSIONS = (1, 2)
+POLARISATIONS = ("unpolarised", "te")        # meta "polarisation" of a v2 table
+UNSTATED_POLARISATION = "te"                 # v1 tables, and v2 tables without the key
 COLUMNS = ("R_spec", "T_coh", "Rbar", "Tbar", "Rbar_below")
 GRIDS = ("wavelengths", "sigma", "theta", "dphi")
+SP_AMPLITUDES = ("r_s", "r_p")                         # optional, complex [nλ, nσ]
+SP_COLUMNS = ("Rbar_s", "Rbar_p", "Tbar_s", "Tbar_p")  # optional, real [nλ, nσ]
+SP_PAIRS = (("r_s", "r_p"), ("Rbar_s", "Rbar_p"), ("Tbar_s", "Tbar_p"))
 _ANGLE_TOL = 1e-9
 _ENERGY_TOL = 1e-6          # round-off tolerance on physical bounds
 _DEFAULT_SUM_TOL = 2e-3     # Rbar vs R_spec + ∫R, when meta gives no error estimate
@@ -56,6 +75,23 @@ class InkTable:
     Rbar_below: np.ndarray
     meta: dict = field(default_factory=dict)
     errors: dict = field(default_factory=dict)   # name -> standard-error array (optional)
+    r_s: np.ndarray | None = None        # optional s/p split of an unpolarised table (see above)
+    r_p: np.ndarray | None = None
+    Rbar_s: np.ndarray | None = None
+    Rbar_p: np.ndarray | None = None
+    Tbar_s: np.ndarray | None = None
+    Tbar_p: np.ndarray | None = None
+
+    @property
+    def polarisation(self) -> str:
+        """"unpolarised" or "te" (unstated, as in every version 1 table: "te", the scalar
+        model's s light)."""
+        return self.meta.get("polarisation", UNSTATED_POLARISATION)
+
+    @property
+    def sp_arrays(self) -> dict:
+        """{name: array} of the optional s/p arrays this table holds."""
+        return {n: getattr(self, n) for n in SP_AMPLITUDES + SP_COLUMNS if getattr(self, n) is not None}
 
     @property
     def has_diffuse(self) -> bool:
@@ -76,8 +112,11 @@ def validate(table: InkTable, where: str = "table") -> InkTable:
     meta = table.meta
     _check(isinstance(meta, dict), where, "meta must be a JSON object")
     version = meta.get("schema_version")
-    _check(version == SCHEMA_VERSION, where,
-           f"schema version {version!r} is not supported (this reader reads version {SCHEMA_VERSION})")
+    _check(not isinstance(version, (str, bool)), where,
+           f"schema version {version!r} is a {type(version).__name__}; expected an integer "
+           f"{' or '.join(map(str, READABLE_VERSIONS))}")
+    _check(version in READABLE_VERSIONS, where, f"schema version {version!r} is not supported "
+           f"(this reader reads versions {', '.join(map(str, READABLE_VERSIONS))})")
     for name in GRIDS:
         g = np.asarray(getattr(table, name))
         _check(g.ndim == 1 and g.size >= 2, where, f"'{name}' must be a 1-D grid of ≥ 2 values, shape {g.shape}")
@@ -126,7 +165,51 @@ def validate(table: InkTable, where: str = "table") -> InkTable:
     mismatch = np.abs(table.Rbar - table.R_spec - diffuse_albedo(table.theta, table.dphi, table.R))
     _check(float(mismatch.max()) <= tol, where,
            f"'Rbar' differs from R_spec + ∫R by {mismatch.max():.3g} (> {tol:.3g})")
+    _validate_polarisation(table, where, version)
     return table
+
+
+def _validate_polarisation(table: InkTable, where: str, version: int) -> None:
+    """meta "polarisation" and the optional s/p arrays: shapes, finiteness, ranges, and their
+    consistency with the unpolarised columns (docs/polarisation.md)."""
+    sp = table.sp_arrays
+    if version == 1:
+        _check("polarisation" not in table.meta and not sp, where,
+               "a schema version 1 table has no polarisation data (write it as version 2)")
+        return
+    pol = table.polarisation
+    _check(pol in POLARISATIONS, where, f"meta 'polarisation' is {pol!r}; expected one of "
+           f"{', '.join(map(repr, POLARISATIONS))}")
+    _check(pol == "unpolarised" or not sp, where,
+           f"a '{pol}' table cannot hold s/p arrays ({', '.join(sp)})")
+    shape = table.R_spec.shape
+    for a, b in SP_PAIRS:
+        _check((a in sp) == (b in sp), where, f"'{a}' and '{b}' come in pairs; only '{a if a in sp else b}' given")
+    for name, arr in sp.items():
+        _check(np.shape(arr) == shape, where, f"'{name}' has shape {np.shape(arr)}, expected {shape}")
+        _check(np.iscomplexobj(arr) == (name in SP_AMPLITUDES), where,
+               f"'{name}' must be {'complex' if name in SP_AMPLITUDES else 'real'}, dtype is {np.asarray(arr).dtype}")
+        bad = ~np.isfinite(arr)
+        _check(not bad.any(), where, f"'{name}' has {int(bad.sum())} non-finite values")
+        power = np.abs(arr) ** 2 if name in SP_AMPLITUDES else np.asarray(arr)
+        _check(float(power.min()) >= -_ENERGY_TOL and float(power.max()) <= 1 + _ENERGY_TOL, where,
+               f"'{name}' {'|·|² ' if name in SP_AMPLITUDES else ''}is outside [0, 1] "
+               f"(range {power.min():.6g}..{power.max():.6g})")
+    checks = [("Rbar_s", "Rbar_p", "Rbar", lambda x: x), ("Tbar_s", "Tbar_p", "Tbar", lambda x: x),
+              ("r_s", "r_p", "R_spec", lambda x: np.abs(x) ** 2)]
+    for s_name, p_name, column, power in checks:
+        if s_name in sp:
+            mean = 0.5 * (power(sp[s_name]) + power(sp[p_name]))
+            off = float(np.max(np.abs(mean - table.column(column))))
+            what = f"(|{s_name}|² + |{p_name}|²)/2" if s_name in SP_AMPLITUDES else f"({s_name} + {p_name})/2"
+            _check(off <= _ENERGY_TOL, where, f"{what} differs from '{column}' by {off:.3g}")
+    for pol_ in ("s", "p"):
+        if f"r_{pol_}" in sp and f"Rbar_{pol_}" in sp:
+            excess = float(np.max(np.abs(sp[f"r_{pol_}"]) ** 2 - sp[f"Rbar_{pol_}"]))
+            _check(excess <= _ENERGY_TOL, where, f"'|r_{pol_}|²' exceeds 'Rbar_{pol_}' by {excess:.3g}")
+        if f"Rbar_{pol_}" in sp and f"Tbar_{pol_}" in sp:
+            over = float(np.max(sp[f"Rbar_{pol_}"] + sp[f"Tbar_{pol_}"] - 1.0))
+            _check(over <= _ENERGY_TOL * 10, where, f"'Rbar_{pol_}' + 'Tbar_{pol_}' exceeds 1 by {over:.3g}")
 
 
 def write_table(path, table: InkTable) -> Path:
@@ -137,6 +220,8 @@ def write_table(path, table: InkTable) -> Path:
     arrays["R"] = np.asarray(table.R, dtype=np.float64)
     for name, arr in table.errors.items():
         arrays[f"{name}_err"] = np.asarray(arr, dtype=np.float64)
+    for name, arr in table.sp_arrays.items():
+        arrays[name] = np.asarray(arr, dtype=np.complex128 if name in SP_AMPLITUDES else np.float64)
     arrays["meta"] = np.array(json.dumps(table.meta, sort_keys=True))
     atomic_savez(path, arrays, compressed=True)
     return path
@@ -156,11 +241,27 @@ def read_table(path) -> InkTable:
         raise TableError(f"{where}: not a readable .npz table (truncated or corrupt: {exc})") from None
     missing = [k for k in GRIDS + COLUMNS + ("R", "meta") if k not in data]
     _check(not missing, where, f"missing arrays: {', '.join(missing)}")
+    _check(data["meta"].dtype.kind in "US" and data["meta"].ndim == 0, where,
+           f"'meta' must be one JSON string, got dtype {data['meta'].dtype}, shape {data['meta'].shape}")
     try:
         meta = json.loads(str(data["meta"]))
     except json.JSONDecodeError as exc:
         raise TableError(f"{where}: 'meta' is not valid JSON ({exc})") from None
-    errors = {k[:-4]: data[k] for k in data if k.endswith("_err")}
-    table = InkTable(**{k: data[k].astype(np.float64) for k in GRIDS + COLUMNS + ("R",)},
-                     meta=meta, errors=errors)
-    return validate(table, where)
+    real = GRIDS + COLUMNS + ("R",) + tuple(k for k in SP_COLUMNS if k in data)
+    errors = {k[:-4]: _numbers(data[k], k, where, complex_ok=False) for k in data if k.endswith("_err")}
+    arrays = {k: _numbers(data[k], k, where, complex_ok=False) for k in real}
+    arrays.update({k: _numbers(data[k], k, where, complex_ok=True) for k in SP_AMPLITUDES if k in data})
+    return validate(InkTable(**arrays, meta=meta, errors=errors), where)
+
+
+def _numbers(arr: np.ndarray, name: str, where: str, complex_ok: bool) -> np.ndarray:
+    """A stored array as float64 (complex128 where `complex_ok`), refusing strings, booleans
+    and a complex array where a real one belongs (its imaginary part would be lost)."""
+    kind = arr.dtype.kind
+    _check(kind not in "USO", where, f"'{name}' holds text (dtype {arr.dtype}); expected numbers")
+    _check(kind in "iufc", where, f"'{name}' has dtype {arr.dtype}; expected numbers")
+    if complex_ok:
+        return arr.astype(np.complex128)
+    _check(kind != "c", where, f"'{name}' is complex (dtype {arr.dtype}); it must be real "
+           "(reading it would drop the imaginary part)")
+    return arr.astype(np.float64)

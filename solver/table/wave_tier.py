@@ -15,51 +15,40 @@ discrete order directions at new angles.
 from __future__ import annotations
 
 import math
-import os
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..geometry import LayerSpec, eps_grid, generate, parse_particles, voxelize
-from ..inks import parse_ink
+from ..geometry import LayerSpec, eps_grid, generate, voxelize
 from ..wave import Cell, prepare, solve_prepared
-from .reduce import fold_dphi, spread_orders
-from .request import TableRequest
+from .orders_to_brdf import fold_dphi, spread_orders
+from .request import RequestError, TableRequest
 
 GOLDEN = 0.5 * (math.sqrt(5.0) - 1.0)
 
 
-def solved_mask(request: TableRequest) -> np.ndarray:
-    """Which σ nodes are solved: all except grazing 90°, which is set analytically."""
-    return np.asarray(request.sigma_rad) < np.pi / 2 - 1e-9
-
-
-def solved_sigma(request: TableRequest) -> np.ndarray:
-    """Incidence angles that are solved, rad."""
-    return np.asarray(request.sigma_rad)[solved_mask(request)]
-
-
-def dphi_grid(request: TableRequest) -> np.ndarray:
-    return np.linspace(0.0, np.pi, request.dphi_count)
-
-
 def realization_seed(request: TableRequest, realization: int) -> int:
-    return int(np.random.SeedSequence([request.seed, realization]).generate_state(1)[0])
+    return int(np.random.SeedSequence([request.wave.seed, realization]).generate_state(1)[0])
 
 
 def azimuths(request: TableRequest, realization: int) -> np.ndarray:
-    s = realization * request.azimuths + np.arange(request.azimuths)
+    """Incidence azimuths (rad) of one realization."""
+    s = realization * request.wave.azimuths + np.arange(request.wave.azimuths)
     return 0.5 * np.pi * np.mod(s * GOLDEN, 1.0)
 
 
 def layer_spec(request: TableRequest) -> LayerSpec:
-    return LayerSpec(parse_ink(request.ink), parse_particles(request.particles),
-                     thickness_nm=request.thickness_nm, cell_nm=(request.cell_nm, request.cell_nm))
+    if len(request.layers) != 1:
+        raise RequestError(f"{request.ink_label}: stacks with particle layers are not solved yet; "
+                           "give molecular layers for an exact multilayer film")
+    layer = request.layer
+    return LayerSpec(layer.ink, layer.particles, thickness_nm=layer.thickness_nm,
+                     cell_nm=(request.wave.cell_nm, request.wave.cell_nm))
 
 
 def needs_below(request: TableRequest) -> bool:
     """Only a rough top breaks the layer's statistical up-down symmetry here."""
-    return parse_particles(request.particles).rough_top > 0
+    return any(layer.particles is not None and layer.particles.rough_top > 0 for layer in request.layers)
 
 
 @dataclass(frozen=True)
@@ -71,7 +60,7 @@ class GeometryUnit:
 def geometry_unit(unit: GeometryUnit):
     """Voxel fractions of one seeded realization."""
     real = generate(layer_spec(unit.request), realization_seed(unit.request, unit.realization))
-    return voxelize(real, unit.request.grid)
+    return voxelize(real, unit.request.wave.grid)
 
 
 @dataclass(frozen=True)
@@ -81,35 +70,32 @@ class SolveUnit:
     wavelength_index: int
     voxels: object                      # VoxelFractions of this realization
     method: str = "full"                # "full": converged solve; "born": first order (DWBA)
-
-
-def _workers() -> int:
-    return int(os.environ.get("INKBSDF_THREADS", "0")) or max(1, min(os.cpu_count() or 1, 8))
+    threads: int | None = None          # FFT threads (None: the solver's default)
 
 
 def solve_unit(unit: SolveUnit) -> dict:
     """All solves of one realization at one wavelength → arrays indexed [σ, azimuth]."""
     req, vox = unit.request, unit.voxels
-    wl = req.wavelengths_nm[unit.wavelength_index]
-    sig, phis = solved_sigma(req), azimuths(req, unit.realization)
+    wl = req.grids.wavelengths_nm[unit.wavelength_index]
+    sig, phis = req.grids.solved_sigma_rad, azimuths(req, unit.realization)
     below = needs_below(req)
-    cell = Cell(eps_grid(vox, wl), tuple(vox.period_nm), tuple(vox.z_range_nm))
+    cell = Cell(eps_grid(vox, wl, req.materials), tuple(vox.period_nm), tuple(vox.z_range_nm))
     z_top, z_bottom = (float(z) for z in vox.z_range_nm)
-    polar, dphi = np.asarray(req.sigma_rad), dphi_grid(req)
+    polar, dphi = np.asarray(req.grids.sigma_rad), req.grids.dphi_rad
     shape = (sig.size, phis.size)
     out = {k: np.zeros(shape) for k in ("Rbar", "Tbar", "A", "energy_error", "applications",
                                          "seconds", "Rbar_below")}
     out["alpha00"] = np.zeros(shape, complex)
     out["beta00"] = np.zeros(shape, complex)
     out["R"] = np.zeros(shape + (polar.size, dphi.size))
-    kw = dict(tol=req.solver_tol, method="born" if unit.method == "born" else "auto")
+    kw = dict(tol=req.wave.solver_tol, method="born" if unit.method == "born" else "auto")
     if unit.method == "born":              # first order by design: not a convergence failure
         kw.update(maxiter=1, on_fail="ignore")
     k0 = 2.0 * np.pi / wl
     for i, s in enumerate(sig):
         for j, phi in enumerate(phis):
             kx0, ky0 = k0 * np.sin(s) * np.cos(phi), k0 * np.sin(s) * np.sin(phi)
-            op = prepare(cell, wl, kx0, ky0, workers=_workers())
+            op = prepare(cell, wl, kx0, ky0, workers=unit.threads)
             sides = (False, True) if below else (False,)
             for from_below in sides:
                 res = solve_prepared(op, from_below, **kw)

@@ -1,4 +1,4 @@
-"""Choosing the cheapest model that meets the tolerance, by measurement.
+"""Choosing the cheapest model that meets the tolerance, by measurement (the tier probe).
 
 Candidates, cheapest first:
   effective-medium  the layer as a thin film of the volume-mean ε (the exact small-particle limit
@@ -16,16 +16,16 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..inks import molecular_eps, parse_ink
+from ..inks import molecular_eps
 from .request import TableRequest
-from .thinfilm_tier import build_thinfilm_table
+from .thinfilm_tier import request_film
 
 CANDIDATES = ("effective-medium", "born", "full")
 
 
 def probe_wavelength_indices(request: TableRequest) -> list[int]:
     """Most absorbing, least absorbing and a middle wavelength of the ink (by mean Im ε)."""
-    loss = molecular_eps(parse_ink(request.ink), np.asarray(request.wavelengths_nm)).imag
+    loss = molecular_eps(request.layer.ink, np.asarray(request.grids.wavelengths_nm), request.materials).imag
     order = np.argsort(loss, kind="stable")
     return sorted({int(order[-1]), int(order[0]), int(order[len(order) // 2])})
 
@@ -39,9 +39,8 @@ def _summaries(units: list[dict]) -> dict:
 
 
 def effective_medium_summaries(request: TableRequest, lambda_indices, sigma) -> dict:
-    wl = np.asarray(request.wavelengths_nm)[lambda_indices]
-    film = build_thinfilm_table(parse_ink(request.ink), request.thickness_nm, wl,
-                                np.concatenate([sigma, [np.pi / 2]]))
+    wl = np.asarray(request.grids.wavelengths_nm)[lambda_indices]
+    film = request_film(request, wl, np.concatenate([sigma, [np.pi / 2]]), polarisation="te")
     return {"Rbar": film.Rbar[:, :-1], "Tbar": film.Tbar[:, :-1], "diffuse": np.zeros((wl.size, sigma.size))}
 
 
@@ -53,14 +52,14 @@ def choose(request: TableRequest, full_units: list[dict], born_units: list[dict]
            lambda_indices, sigma) -> tuple[str, dict]:
     """The tier to build and the measured deviations of each candidate from the full solve."""
     reference = _summaries(full_units)
-    report = {"probe_wavelengths_nm": [request.wavelengths_nm[i] for i in lambda_indices],
-              "tolerance": request.tolerance,
+    report = {"probe_wavelengths_nm": [request.grids.wavelengths_nm[i] for i in lambda_indices],
+              "tolerance": request.wave.tolerance,
               "deviation": {"effective-medium": deviation(
                   effective_medium_summaries(request, lambda_indices, sigma), reference)}}
     if born_units is not None:
         report["deviation"]["born"] = deviation(_summaries(born_units), reference)
     report["deviation"]["full"] = 0.0
     for tier in CANDIDATES:
-        if tier in report["deviation"] and report["deviation"][tier] <= request.tolerance:
+        if tier in report["deviation"] and report["deviation"][tier] <= request.wave.tolerance:
             return tier, report
     return "full", report

@@ -17,19 +17,13 @@ from __future__ import annotations
 import numpy as np
 
 from .integrals import azimuth_weights, cosine_weights, diffuse_albedo
+from .interpolation import lerp_weights
 
 
 def fold_dphi(phi_toward_light, phi_toward_viewer) -> np.ndarray:
     """|Δφ| folded into [0, π]."""
     d = np.mod(np.asarray(phi_toward_light) - np.asarray(phi_toward_viewer), 2 * np.pi)
     return np.where(d > np.pi, 2 * np.pi - d, d)
-
-
-def _hats(grid: np.ndarray, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Lower node index and the upper node's hat value (the lower one's is 1 − t)."""
-    x = np.clip(x, grid[0], grid[-1])
-    i = np.clip(np.searchsorted(grid, x, side="right") - 1, 0, grid.size - 2)
-    return i, (x - grid[i]) / (grid[i + 1] - grid[i])
 
 
 def spread_orders(theta_grid, dphi_grid, theta_o, dphi_o, power) -> np.ndarray:
@@ -40,8 +34,8 @@ def spread_orders(theta_grid, dphi_grid, theta_o, dphi_o, power) -> np.ndarray:
     theta_o, dphi_o, power = (np.ravel(a).astype(float) for a in (theta_o, dphi_o, power))
     if power.size == 0:
         return out
-    i, ti = _hats(theta_grid, theta_o)
-    k, tk = _hats(dphi_grid, dphi_o)
+    i, ti = lerp_weights(theta_grid, theta_o)
+    k, tk = lerp_weights(dphi_grid, dphi_o)
     for di, wi in ((0, 1 - ti), (1, ti)):
         for dk, wk in ((0, 1 - tk), (1, tk)):
             np.add.at(out, (i + di, k + dk), power * wi * wk)

@@ -6,7 +6,7 @@ Per wavelength and incidence σ, with M = realizations × azimuths samples:
   R = ⟨spread non-00 orders⟩ + the incoherent part of the 00 order, ⟨|α00|²⟩ − |⟨α00⟩|²,
       placed at the mirror node (θ = σ, Δφ = π);
 so Rbar = R_spec + ∫R cos θ dω/π holds exactly.  R is then made reciprocal keeping each row's
-albedo (`reduce.symmetrize_reciprocal`).  Grazing incidence σ = 90° is the analytic limit of a
+albedo (`orders_to_brdf.symmetrize_reciprocal`).  Grazing incidence σ = 90° is the analytic limit of a
 layer with flat faces: the incident flux vanishes, the beam is mirrored (R_spec = 1, T = 0, R = 0).
 At σ = 0 (and θ = 0) R is averaged over Δφ: a normal direction has no azimuth reference.
 
@@ -18,14 +18,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from .reduce import isotropize_normal, spread_orders, symmetrize_reciprocal
+from .orders_to_brdf import isotropize_normal, spread_orders, symmetrize_reciprocal
 from .request import TableRequest
 from .schema import InkTable
-from .wave_tier import dphi_grid, solved_mask
 
 
 def _se(per_real: np.ndarray) -> np.ndarray:
-    """Standard error of the mean over axis 0 (0 when there is a single realization)."""
+    """Standard error of the mean over axis 0 (0 for a single realization: then unknown, and
+    the table stores no error arrays)."""
     n = per_real.shape[0]
     return per_real.std(axis=0, ddof=1) / np.sqrt(n) if n > 1 else np.zeros(per_real.shape[1:])
 
@@ -44,8 +44,8 @@ def _coherent(amp: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def reduce_units(request: TableRequest, units: list[list[dict]], meta: dict) -> InkTable:
     """units[r][λ] are solve_unit results; returns the validated-shape table (not yet written)."""
-    polar, dphi, solved = np.asarray(request.sigma_rad), dphi_grid(request), solved_mask(request)
-    nl, ns = len(request.wavelengths_nm), polar.size
+    polar, dphi, solved = np.asarray(request.grids.sigma_rad), request.grids.dphi_rad, request.grids.solved_mask
+    nl, ns = len(request.grids.wavelengths_nm), polar.size
     cols = {k: np.zeros((nl, ns)) for k in ("R_spec", "T_coh", "Rbar", "Tbar", "Rbar_below")}
     errs = {k: np.zeros((nl, ns)) for k in cols}
     R = np.zeros((nl, ns, ns, dphi.size))
@@ -74,15 +74,14 @@ def reduce_units(request: TableRequest, units: list[list[dict]], meta: dict) -> 
         seconds += float(get("seconds").sum())
     R = symmetrize_reciprocal(isotropize_normal(R, polar, dphi), polar, dphi)
     meta = dict(meta)
+    sampled = len(units) > 1                 # one realization: the standard error is unknown
     meta.setdefault("errors", {}).update({
         "energy_closure_max": worst_energy,
-        "Rbar_se_max": float(errs["Rbar"].max()),
-        "Tbar_se_max": float(errs["Tbar"].max()),
-        "R_spec_se_max": float(errs["R_spec"].max()),
+        **{f"{k}_se_max": float(errs[k].max()) if sampled else None for k in ("Rbar", "Tbar", "R_spec")},
         "energy_sum_tol": 1e-9,
     })
     meta.setdefault("solver_stats", {}).update({
         "applications_mean": float(np.mean(apps)), "applications_max": int(np.max(apps)),
         "solve_seconds_total": seconds})
-    return InkTable(wavelengths=np.asarray(request.wavelengths_nm), sigma=polar, theta=polar.copy(),
-                    dphi=dphi, R=R, meta=meta, errors={**errs, "R": R_err}, **cols)
+    return InkTable(wavelengths=np.asarray(request.grids.wavelengths_nm), sigma=polar, theta=polar.copy(),
+                    dphi=dphi, R=R, meta=meta, errors={**errs, "R": R_err} if sampled else {}, **cols)

@@ -1,0 +1,131 @@
+"""Before any work: estimate what a table build needs, refuse what cannot fit this machine.
+
+A build that cannot finish must say so in one line before it starts, not die of a MemoryError
+after minutes: the estimate covers the table's size (disk, and the memory of assembling it),
+the peak memory of one worker (geometry, or one wave solve), the grains per realization and
+the wall time.  What does not fit is refused with the estimate and the limit in the message
+(`force=True`, `--force` at the CLI, for those who know better); what will take long is logged
+as a warning with the estimate.  The models are simple fits to measurements
+(`python -m benchmarks.bench_tables` prints the measured values beside these estimates).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import os
+import shutil
+from dataclasses import dataclass
+from pathlib import Path
+
+from .request import TableRequest
+
+log = logging.getLogger("inkbsdf.tables")
+
+#: wave solve: fixed interpreter + libraries, and bytes per voxel (operator, Krylov basis, FFT
+#: buffers) — fitted to 160 MB at 64×64×32 and 735 MB at 128×128×64 (docs/tables.md)
+SOLVE_BASE_BYTES = 80e6
+SOLVE_BYTES_PER_VOXEL = 620.0
+#: wave solve time per operator application per voxel·log2(voxels), and applications per solve
+SECONDS_PER_VOXEL_LOG = 2.5e-8
+APPLICATIONS_PER_SOLVE = 20
+#: a build warns when it is expected to take longer than this
+LONG_BUILD_S = 600.0
+#: share of the available memory / free disk a build may plan to use
+MEMORY_SHARE, DISK_SHARE = 0.8, 0.9
+
+
+class PreflightError(ValueError):
+    """A build refused before it starts: the estimate and the limit are in the message."""
+
+
+@dataclass(frozen=True)
+class Estimate:
+    table_bytes: int          # the finished table (uncompressed)
+    worker_bytes: int         # peak memory of one worker process
+    grains: int               # grains per realization (0 for a molecular ink)
+    solves: int               # wave solves of the whole build
+    seconds: float            # rough wall time with the given workers
+
+    def describe(self) -> str:
+        parts = [f"table {_size(self.table_bytes)}", f"{_size(self.worker_bytes)} per worker"]
+        if self.grains:
+            parts.append(f"{self.grains:,} grains per cell")
+        if self.solves:
+            parts.append(f"{self.solves:,} wave solves")
+        parts.append(f"≈ {_duration(self.seconds)}")
+        return ", ".join(parts)
+
+
+def _size(n: float) -> str:
+    for unit, scale in (("GB", 1e9), ("MB", 1e6), ("kB", 1e3)):
+        if n >= scale:
+            return f"{n / scale:.1f} {unit}"
+    return f"{int(n)} B"
+
+
+def _duration(s: float) -> str:
+    if s >= 3600:
+        return f"{s / 3600:.1f} h"
+    return f"{s / 60:.1f} min" if s >= 60 else f"{s:.0f} s"
+
+
+def available_memory_bytes() -> float:
+    """MemAvailable of this machine (Linux), else the physical memory."""
+    try:
+        for line in Path("/proc/meminfo").read_text().splitlines():
+            if line.startswith("MemAvailable:"):
+                return float(line.split()[1]) * 1024.0
+    except (OSError, ValueError, IndexError):
+        pass
+    try:
+        return float(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
+    except (ValueError, OSError, AttributeError):
+        return math.inf
+
+
+def estimate(request: TableRequest, workers: int = 1) -> Estimate:
+    """What building the request needs (pure arithmetic: no geometry, no solve)."""
+    g = request.grids
+    nl, ns = len(g.wavelengths_nm), len(g.sigma_rad)
+    columns = 5 * nl * ns * 8
+    if request.molecular:
+        table = nl * ns * 2 * 2 * 8 + columns
+        work = 40e6 + 6 * table
+        return Estimate(int(table), int(work), 0, 0, 1e-6 * nl * ns)
+    from ..geometry import geometry_cost
+    from .wave_tier import layer_spec, needs_below
+
+    w = request.wave
+    table = 2 * nl * ns * ns * g.dphi_count * 8 + 2 * columns          # R and its errors
+    voxels = math.prod(w.grid)
+    geom = geometry_cost(layer_spec(request), w.grid)
+    solve_bytes = SOLVE_BASE_BYTES + SOLVE_BYTES_PER_VOXEL * voxels
+    solves = w.realizations * nl * int(g.solved_mask.sum()) * w.azimuths * (2 if needs_below(request) else 1)
+    per_solve = APPLICATIONS_PER_SOLVE * SECONDS_PER_VOXEL_LOG * voxels * math.log2(max(voxels, 2))
+    seconds = (geom.seconds * w.realizations + solves * per_solve) / max(1, workers)
+    return Estimate(int(table), int(max(solve_bytes, geom.peak_bytes) + 3 * table), int(geom.grains),
+                    int(solves), float(seconds))
+
+
+def check(request: TableRequest, workers: int, cache_root: Path, *, force: bool = False) -> Estimate:
+    """Refuse what cannot fit (unless forced), warn about what will take long; return the estimate."""
+    est = estimate(request, workers)
+    memory = available_memory_bytes() * MEMORY_SHARE
+    need = est.worker_bytes * max(1, workers if not request.molecular else 1)
+    problems = []
+    if need > memory:
+        problems.append(f"needs ≈ {_size(need)} of memory ({workers} worker(s) × {_size(est.worker_bytes)}), "
+                        f"this machine has {_size(memory)} available")
+    try:
+        free = shutil.disk_usage(cache_root if cache_root.exists() else cache_root.parent).free * DISK_SHARE
+    except OSError:
+        free = math.inf
+    if est.table_bytes > free:
+        problems.append(f"the table is ≈ {_size(est.table_bytes)}, the cache's disk has {_size(free)} free")
+    if problems and not force:
+        raise PreflightError(f"{request.describe()}: refused before starting: " + "; ".join(problems)
+                             + " (estimate: " + est.describe() + "; use coarser settings, or --force to try anyway)")
+    if est.seconds > LONG_BUILD_S:
+        log.warning("%s will take long: %s", request.describe(), est.describe())
+    return est

@@ -1,0 +1,119 @@
+"""Faults and ordinary failures of table builds: one clear line and no traceback, nothing left
+behind (temp files, processes), broken cache parts recomputed, files readable by others."""
+
+import logging
+import os
+import signal
+import stat
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+from conftest import process_group
+from solver.table.builder import BuildOptions, build_table, get_or_build
+from solver.table.cache import TableCache
+from solver.table.request import table_request
+
+CLI = [sys.executable, "-m", "solver.cli"]
+SMALL = ["--ink", "Y7.5+B7.5", "--particles", "sphere:300", "--wavelengths", "400:700:20", "--angles", "4",
+         "--grid", "24", "24", "12", "--realizations", "1", "--azimuths", "2", "--tier", "full", "--no-progress"]
+
+
+def _small_request():
+    return table_request("Y7.5+B7.5", "sphere:300", wavelengths_nm=(450.0, 650.0),
+                         sigma_rad=tuple(np.radians([0.0, 40.0, 90.0])), grid=(16, 16, 8), realizations=1,
+                         azimuths=1, tier="full")
+
+
+def test_a_part_holding_nan_is_recomputed(tmp_path, caplog):
+    req, cache = _small_request(), TableCache(tmp_path / "cache")
+    opts = BuildOptions(workers=1, progress=False, cache=cache)
+    first = build_table(req, opts)                                # build_table keeps the parts
+    part = cache.parts_dir(req) / "full_r0_l1.npz"
+    with np.load(part) as npz:
+        arrays = {k: npz[k] for k in npz.files}
+    arrays["Rbar"] = np.full_like(arrays["Rbar"], np.nan)
+    np.savez(part, **arrays)
+    with caplog.at_level(logging.WARNING, logger="inkbsdf.tables"):
+        again = build_table(req, opts)
+    assert any("full_r0_l1.npz" in r.message and "non-finite" in r.message for r in caplog.records)
+    np.testing.assert_array_equal(again.Rbar, first.Rbar)
+
+
+def test_cached_tables_are_readable_by_the_team(tmp_path):
+    old = os.umask(0o022)
+    try:
+        _, path, _ = get_or_build(table_request("R15"), BuildOptions(progress=False, cache=TableCache(tmp_path)))
+    finally:
+        os.umask(old)
+    for p in (path, path.replace(".npz", ".json")):
+        assert stat.S_IMODE(os.stat(p).st_mode) == 0o644
+
+
+def _run(args, **kw):
+    return subprocess.run(CLI + args, capture_output=True, text=True, timeout=120, **kw)
+
+
+def test_ordinary_failures_are_one_line_without_traceback(tmp_path):
+    a_file = tmp_path / "not_a_folder"
+    a_file.write_text("x")
+    env = dict(os.environ, INKBSDF_CACHE=str(a_file))
+    cases = [
+        (["build", "--ink", "R15", "-o", str(tmp_path / "t.npz")], env, "is a file, not a folder"),
+        (["build", "--ink", "R15", "--cache", "/proc/inkbsdf_cache", "-o", str(tmp_path / "t.npz")], None,
+         "cannot be created"),
+        (SMALL + ["--scheduler", "tcp://127.0.0.1:9", "-o", str(tmp_path / "t.npz")], None,
+         "cannot reach the Dask scheduler"),
+        (["build", "--ink", "R15", "--grid", "1", "1", "1", "--particles", "sphere:100", "-o", "x.npz"], None,
+         "--grid"),
+        (["build", "--ink", "R15", "--solver-tol", "0", "--particles", "sphere:100", "-o", "x.npz"], None,
+         "--solver-tol"),
+        (["build", "--ink", "R15", "--seed", "-1", "--particles", "sphere:100", "-o", "x.npz"], None, "--seed"),
+        (["build", "--ink", "clear", "--particles", "sphere:100", "-o", "x.npz"], None, "clear"),
+        (["build", "--ink", "R15", "--wavelengths", "300:800:10", "-o", "x.npz"], None, "pigment data"),
+        (["build", "--ink", "R15", "--thickness", "inf", "-o", "x.npz"], None, "--thickness"),
+        (["build", "--ink", "R15", "-o", "/proc/nowhere/t.npz"], None, "/proc/nowhere"),
+    ]
+    for args, env_, words in cases:
+        t0 = time.perf_counter()
+        res = _run(args if args[0] == "build" else ["build"] + args, env=env_)
+        assert res.returncode == 2, (args, res.stderr)
+        assert "Traceback" not in res.stderr and res.stderr.count("\n") == 1, (args, res.stderr)
+        assert words in res.stderr, (args, res.stderr)
+        assert time.perf_counter() - t0 < 30
+
+
+def test_show_into_a_closed_pipe_is_quiet(tmp_path):
+    out = tmp_path / "t.npz"
+    assert _run(["build", "--ink", "R15", "--cache", str(tmp_path / "c"), "-o", str(out)]).returncode == 0
+    proc = subprocess.Popen(CLI + ["show", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    proc.stdout.readline()
+    proc.stdout.close()                                           # like `| head -1`
+    err = proc.stderr.read().decode()
+    assert proc.wait(timeout=60) == 0 and "Traceback" not in err, err
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("sig, code", [(signal.SIGINT, 130), (signal.SIGTERM, 128 + signal.SIGTERM)])
+def test_interrupted_build_stops_promptly_and_leaves_nothing(tmp_path, sig, code):
+    cache = tmp_path / "cache"
+    proc = subprocess.Popen(CLI + ["build"] + SMALL + ["--cache", str(cache), "-o", str(tmp_path / "t.npz")],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+    deadline = time.time() + 120
+    while not list(cache.glob("parts/*/full_*.npz")) and time.time() < deadline and proc.poll() is None:
+        time.sleep(0.02)
+    t0 = time.perf_counter()
+    proc.send_signal(sig)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == code, err
+    assert time.perf_counter() - t0 < 5.0
+    assert "Traceback" not in err, err
+    assert not list(cache.rglob("*.tmp"))
+    assert not (tmp_path / "t.npz").exists()
+    deadline = time.time() + 10
+    while process_group(proc.pid) and time.time() < deadline:
+        time.sleep(0.05)
+    assert not process_group(proc.pid)

@@ -1,0 +1,260 @@
+"""The `ink` BSDF with coverage models and several inks, against the NumPy reference model
+(solver.printing): eval, delta lobe, albedo; c = 0 / 1 as before; reciprocity, white furnace,
+energy; which overprints are evaluated (decided at load); parameters and their errors."""
+
+import numpy as np
+import pytest
+
+from conftest import surface_interaction
+from printing_tables import StackProvider, load, reference, write_print_tables
+from solver.printing import PrintedInks, brdf_smooth, directional_albedo, specular_reflectance
+from solver.table import read_table
+from test_bsdf_energy import quadrature_albedo, sampled_albedo
+
+CY, MD = "clapper-yule", "murray-davies"
+LAMBDAS = (415.0, 505.0, 590.0, 675.0)
+N_LANES = 4096
+
+
+@pytest.fixture(scope="module")
+def tables(tmp_path_factory):
+    return write_print_tables(tmp_path_factory.mktemp("print_tables"))
+
+
+def directions(rng, n):
+    v = rng.normal(size=(3, n))
+    v /= np.linalg.norm(v, axis=0)
+    v[2] = np.abs(v[2]) + 1e-3
+    return v / np.linalg.norm(v, axis=0)
+
+
+def plugin_eval(mi, bsdf, wi, wo, lam=LAMBDAS):
+    import drjit as dr
+
+    si = surface_interaction(mi, wi, np.tile(np.asarray(lam)[:, None], (1, wi.shape[1])))
+    value = bsdf.eval(mi.BSDFContext(), si, mi.Vector3f(*[mi.Float(c) for c in wo]))
+    return np.array([np.asarray(value[j]) for j in range(dr.size_v(mi.Spectrum))], dtype=np.float64)
+
+
+def reference_eval(printed, coverages, wi, wo, model, paper=0.9, lam=LAMBDAS):
+    """f·cos θo of the smooth part from solver.printing, [4, N]."""
+    sigma, theta = np.arccos(wi[2]), np.arccos(wo[2])
+    dphi = np.abs(np.angle(np.exp(1j * (np.arctan2(wi[1], wi[0]) - np.arctan2(wo[1], wo[0])))))
+    f = brdf_smooth(printed, coverages, paper, sigma, theta, dphi, model, wavelengths_nm=lam)
+    return f * wo[2]
+
+
+def delta_weight(mi, bsdf, deg, lam=LAMBDAS):
+    """Σ a_S R_spec,S(σ) as the plugin samples it (delta lobe alone: weight without division)."""
+    import drjit as dr
+
+    ctx = mi.BSDFContext()
+    ctx.type_mask = +mi.BSDFFlags.DeltaReflection
+    s = np.radians(deg)
+    si = surface_interaction(mi, np.array([[np.sin(s)], [0.0], [np.cos(s)]]), np.asarray(lam)[:, None])
+    _, w = bsdf.sample(ctx, si, mi.Float(0.5), mi.Point2f(0.5, 0.5))
+    return np.array([np.asarray(w[j])[0] for j in range(dr.size_v(mi.Spectrum))])
+
+
+@pytest.mark.parametrize("model", [CY, MD])
+@pytest.mark.parametrize("ink,coverage", [("R30", 0.5), ("diffuse", 0.35)])
+def test_single_ink_matches_numpy_model(use_variant, tables, model, ink, coverage):
+    mi = use_variant("llvm_ad_spectral")
+    bsdf = mi.load_dict({"type": "ink", "filename": str(tables[ink]), "coverage": coverage,
+                         "coverage_model": model, "paper": 0.9})
+    printed = PrintedInks((read_table(tables[ink]),))
+    rng = np.random.default_rng(1)
+    wi, wo = directions(rng, N_LANES), directions(rng, N_LANES)
+    np.testing.assert_allclose(plugin_eval(mi, bsdf, wi, wo), reference_eval(printed, [coverage], wi, wo, model),
+                               rtol=2e-4, atol=2e-6)
+    for deg in (0.0, 40.0, 70.0):
+        want = directional_albedo(printed, [coverage], 0.9, np.radians(deg), model, wavelengths_nm=LAMBDAS)
+        np.testing.assert_allclose(quadrature_albedo(mi, bsdf, deg, LAMBDAS), want, rtol=5e-4, atol=1e-5)
+
+
+@pytest.mark.parametrize("model", [CY, MD])
+def test_three_overlapping_inks_match_numpy_model(use_variant, tables, model):
+    """R30, a diffuse ink and B30 at 50/40/60 %: all eight primaries, overprints from the provider
+    (asked top first, once each); eval, delta lobe and albedo equal the NumPy model."""
+    mi = use_variant("llvm_ad_spectral")
+    from inkbsdf.inks import stack_provider
+
+    paths = (tables["R30"], tables["diffuse"], tables["B30"])
+    cov = [0.5, 0.4, 0.6]
+    provider = StackProvider()
+    with stack_provider(provider):
+        bsdf = load(mi, paths, cov, model)
+    assert sorted(provider.calls) == sorted([(2, 1), (3, 1), (3, 2), (3, 2, 1)])
+    printed = reference(paths)
+    rng = np.random.default_rng(2)
+    wi, wo = directions(rng, N_LANES), directions(rng, N_LANES)
+    got = plugin_eval(mi, bsdf, wi, wo)
+    np.testing.assert_allclose(got, reference_eval(printed, cov, wi, wo, model), rtol=3e-4, atol=2e-6)
+    for deg in (0.0, 45.0, 75.0):
+        s = np.radians(deg)
+        np.testing.assert_allclose(delta_weight(mi, bsdf, deg),
+                                   specular_reflectance(printed, cov, s, wavelengths_nm=LAMBDAS), rtol=2e-4)
+        want = directional_albedo(printed, cov, 0.9, s, model, wavelengths_nm=LAMBDAS)
+        np.testing.assert_allclose(quadrature_albedo(mi, bsdf, deg, LAMBDAS), want, rtol=5e-4, atol=1e-5)
+
+
+def test_no_and_full_coverage_equal_murray_davies(use_variant, tables):
+    """At coverages 0 and 1 the Clapper–Yule BSDF is exactly the former (Murray–Davies) one."""
+    mi = use_variant("llvm_ad_spectral")
+    from inkbsdf.inks import stack_provider
+
+    rng = np.random.default_rng(3)
+    wi, wo = directions(rng, N_LANES), directions(rng, N_LANES)
+    for ink in ("Y30", "diffuse"):
+        for c in (0.0, 1.0):
+            one = [mi.load_dict({"type": "ink", "filename": str(tables[ink]), "coverage": c,
+                                 "coverage_model": m}) for m in (CY, MD)]
+            np.testing.assert_allclose(plugin_eval(mi, one[0], wi, wo), plugin_eval(mi, one[1], wi, wo),
+                                       rtol=1e-6, atol=1e-9)
+            np.testing.assert_allclose(delta_weight(mi, one[0], 30.0), delta_weight(mi, one[1], 30.0), rtol=1e-6)
+    paths = (tables["R30"], tables["diffuse"], tables["B30"])
+    with stack_provider(StackProvider()):
+        for cov in ([1, 0, 1], [0, 1, 1], [1, 1, 1], [0, 0, 0]):
+            pair = [load(mi, paths, [float(c) for c in cov], m) for m in (CY, MD)]
+            np.testing.assert_allclose(plugin_eval(mi, pair[0], wi, wo), plugin_eval(mi, pair[1], wi, wo),
+                                       rtol=1e-6, atol=1e-9)
+
+
+@pytest.mark.parametrize("model", [CY, MD])
+def test_reciprocity_with_overprints(use_variant, tables, model):
+    mi = use_variant("llvm_ad_spectral")
+    from inkbsdf.inks import stack_provider
+
+    with stack_provider(StackProvider()):
+        bsdf = load(mi, (tables["Y30"], tables["diffuse"], tables["B30"]), [0.7, 0.5, 0.3], model)
+    rng = np.random.default_rng(4)
+    a, b = directions(rng, N_LANES), directions(rng, N_LANES)
+    f_ab = plugin_eval(mi, bsdf, a, b) / b[2]
+    f_ba = plugin_eval(mi, bsdf, b, a) / a[2]
+    np.testing.assert_allclose(f_ab, f_ba, rtol=3e-4, atol=1e-6)
+    assert np.ptp(f_ab) > 1e-3
+
+
+@pytest.mark.parametrize("model", [CY, MD])
+@pytest.mark.parametrize("deg", [0.0, 45.0, 80.0])
+def test_white_furnace_three_clear_inks(use_variant, tables, model, deg):
+    """Three lossless clear layers and their lossless stacks on white paper reflect exactly 1."""
+    mi = use_variant("llvm_ad_spectral")
+    from inkbsdf.inks import stack_provider
+
+    with stack_provider(StackProvider()):
+        bsdf = load(mi, (tables["clear700"], tables["clear1000"], tables["clear1500"]), [0.5, 0.3, 0.8],
+                    model, paper=1.0)
+    lam = np.random.default_rng(5).uniform(360.0, 830.0, size=(4, 1 << 17))
+    mean, err = sampled_albedo(mi, bsdf, deg, lam)
+    assert err < 5e-3
+    assert abs(mean - 1.0) < 4.5 * err + 1e-4, (mean, err)
+
+
+def test_energy_at_most_one_with_overprints(use_variant, tables):
+    mi = use_variant("llvm_ad_spectral")
+    from inkbsdf.inks import stack_provider
+
+    paths = (tables["R30"], tables["Y30"], tables["B30"])
+    lam = np.random.default_rng(6).uniform(360.0, 830.0, size=(4, 1 << 15))
+    with stack_provider(StackProvider()):
+        for model in (CY, MD):
+            bsdf = load(mi, paths, [0.6, 0.6, 0.6], model, paper=1.0)
+            for deg in (0.0, 60.0, 85.0):
+                mean, err = sampled_albedo(mi, bsdf, deg, lam)
+                assert 0.05 < mean <= 1.0 + 4.5 * err + 1e-4
+            printed = reference(paths)
+            assert directional_albedo(printed, [0.6] * 3, 1.0, np.radians(np.arange(0, 91, 5)), model).max() <= 1.0
+
+
+def _bitmap(mi, tmp_path, name, img, filter_type):
+    path = tmp_path / f"{name}.exr"
+    mi.Bitmap(np.asarray(img, dtype=np.float32)[..., None], mi.Bitmap.PixelFormat.Y).write(str(path))
+    return {"type": "bitmap", "filename": str(path), "raw": True, "filter_type": filter_type}
+
+
+def test_overprints_decided_at_load(use_variant, tables, tmp_path):
+    """Only overprints that can occur are evaluated: constant 0 never overlaps; bitmaps with no
+    common texel need no stack (nearest), but do when bilinear filtering mixes touching texels;
+    a coverage changed through traverse is analysed again."""
+    mi = use_variant("llvm_ad_spectral")
+    from inkbsdf.inks import stack_provider
+
+    paths = (tables["R30"], tables["Y30"], tables["B30"])
+    provider = StackProvider()
+    with stack_provider(provider):
+        bsdf = load(mi, paths, [0.5, 0.0, 0.7])
+    assert provider.calls == [(3, 1)]
+    assert "stacks=[3/1]" in str(bsdf)
+
+    left, right = np.zeros((8, 8)), np.zeros((8, 8))
+    left[:, :4], right[:, 4:] = 1.0, 0.6
+    for filt in ("nearest", "bilinear"):
+        covs = [_bitmap(mi, tmp_path, f"l{filt}", left, filt), _bitmap(mi, tmp_path, f"r{filt}", right, filt), 0.0]
+        if filt == "nearest":                                   # no provider needed at all
+            bsdf = load(mi, paths, covs)
+            assert "stacks=[]" in str(bsdf)
+        else:
+            with pytest.raises(Exception, match="ink 2 .*over ink 1 .*can overlap"):
+                load(mi, paths, covs)
+
+    provider = StackProvider()
+    with stack_provider(provider):
+        bsdf = load(mi, paths, [0.5, 0.0, 0.0])
+        assert provider.calls == []
+        params = mi.traverse(bsdf)
+        assert "coverage2.value" in params and "coverage3.value" in params
+        params["coverage2.value"] = 0.4
+        params.update()
+    assert provider.calls == [(2, 1)]
+    rng = np.random.default_rng(7)
+    wi, wo = directions(rng, 512), directions(rng, 512)
+    want = reference_eval(reference(paths), [0.5, 0.4, 0.0], wi, wo, CY)
+    np.testing.assert_allclose(plugin_eval(mi, bsdf, wi, wo), want, rtol=3e-4, atol=2e-6)
+
+
+def test_numbered_parameters(use_variant, tables):
+    """In-scene inks with shared and numbered parameters reach the provider as single-ink names."""
+    mi = use_variant("llvm_ad_spectral")
+    from inkbsdf.inks import stack_provider
+
+    seen = []
+
+    def provider(members):
+        seen.append(members)
+        return members[0].lut
+
+    with stack_provider(provider):
+        mi.load_dict({"type": "ink", "ink1": "Y15", "ink2": "B15", "thickness": 800.0, "thickness2": 1200.0,
+                      "coverage1": 0.5, "coverage2": 0.5})
+        mi.load_dict({"type": "ink", "filename1": str(tables["R30"]), "ink2": "B15", "coverage2": 0.5,
+                      "coverage1": 0.5})
+    top, bottom = seen[0]
+    assert (top.index, top.label, top.params["thickness"]) == (2, "B15", 1200.0)
+    assert (bottom.index, bottom.label, bottom.params["thickness"]) == (1, "Y15", 800.0)
+    top, bottom = seen[1]
+    assert bottom.params == {"filename": str(tables["R30"].resolve())} and bottom.label == "R30"
+    assert top.params == {"ink": "B15"}
+
+
+@pytest.mark.parametrize("params,message", [
+    ({"filename": "R30", "filename1": "R30"}, "not both forms"),
+    ({"filename1": "R30", "coverage": 0.5}, "not both forms"),
+    ({"filename1": "R30", "filename3": "B30"}, "without gaps"),
+    ({"filename1": "R30", "ink1": "R30"}, "ink 1: give either 'filename1' or 'ink1'"),
+    ({"filename1": "R30", "coverage2": 0.5}, "'coverage2' names no ink"),
+    ({"filename1": "R30", "coverage_model": "yule"}, "coverage_model must be one of clapper-yule, murray-davies"),
+    ({"filename1": "R30", "bogus2": 1.0}, "unreferenced property"),
+    ({"filename1": "R30", "particles": "molecular"}, "unreferenced property"),
+    ({"filename1": "nowhere.npz"}, "ink BSDF, ink 1: .*not found"),
+])
+def test_parameter_errors(use_variant, tables, params, message):
+    mi = use_variant("llvm_ad_spectral")
+    for key, value in params.items():
+        if key.startswith("filename") and value == "R30":
+            params[key] = str(tables["R30"])
+    for n in range(5):
+        if f"filename{n}" in params and params[f"filename{n}"] == "B30":
+            params[f"filename{n}"] = str(tables["B30"])
+    with pytest.raises(Exception, match=message):
+        mi.load_dict({"type": "ink", **params})

@@ -1,0 +1,140 @@
+"""One request, one table: every entry point makes the same typed request for the same ink, the
+cache key covers everything that changes the numbers (material data, code), bad options are
+refused before any work with a message naming the option."""
+
+import argparse
+import math
+
+import numpy as np
+import pytest
+
+from solver.materials import default_materials, load_material_data
+from solver.table.fingerprint import file_digest
+from solver.table.request import RequestError, table_request, wavelength_range
+
+
+def _cli_request(*argv):
+    from solver.cli.build import add_parser, request_from_args
+
+    parser = argparse.ArgumentParser()
+    add_parser(parser.add_subparsers())
+    return request_from_args(parser.parse_args(["build", *argv, "-o", "unused.npz"]))
+
+
+class Props(dict):
+    """The part of mitsuba.Properties that inkbsdf.source reads."""
+
+    def get(self, name, default=None):
+        return self[name] if name in self else default
+
+
+@pytest.mark.parametrize("ink, particles", [("R30", "molecular"), ("Y7.5+B7.5", "sphere:300")])
+def test_every_entry_point_makes_the_same_request(ink, particles):
+    from inkbsdf.source import table_request as scene_request
+
+    library = table_request(ink, particles)
+    cli = _cli_request("--ink", ink, "--particles", particles)
+    scene = scene_request(Props(ink=ink, particles=particles))
+    assert library == cli == scene
+    assert library.key() == cli.key() == scene.key()
+    # the molecular default is one grid everywhere (it used to be 21 λ in scenes, 41 at the CLI)
+    if particles == "molecular":
+        assert len(library.grids.wavelengths_nm) == 41 and len(library.grids.sigma_rad) == 46
+
+
+def test_demo_tables_are_the_cli_tables(tmp_path):
+    from inkbsdf.demo_tables import build_tables
+    from solver.table import read_table
+
+    table = read_table(build_tables(tmp_path, ["G30"])["G30"])
+    assert table.meta["cache_key"] == _cli_request("--ink", "G30").key()
+
+
+def test_key_follows_what_changes_the_numbers():
+    base = table_request("Y7.5+B7.5", "sphere:300")
+    assert table_request("G30").key() == table_request("Y15+B15").key()          # one material
+    assert table_request("G30", "sphere:100").key() != table_request("Y15+B15", "sphere:100").key()
+    for other in (table_request("Y7.5+B7.5", "sphere:300", realizations=5),
+                  table_request("Y7.5+B7.5", "sphere:300", seed=2),
+                  table_request("Y7.5+B7.5", "sphere:300", thickness_nm=900),
+                  table_request("Y7.5+B7.5", "sphere:300", polarisation="unpolarised"),
+                  table_request("Y7.5+B7.5", "sphere:300", accuracy="preview")):
+        assert other.key() != base.key()
+    assert table_request("Y15/B15").key() != table_request("B15/Y15").key()
+    assert table_request("Y15/B15").key() != table_request("Y15+B15").key()
+
+
+def test_edited_pigment_data_gives_a_new_key(tmp_path):
+    text = (tmp_path / "orig.csv")
+    from importlib import resources
+
+    text.write_text(resources.files("solver.data").joinpath("pigments_k.csv").read_text())
+    same = load_material_data(text)
+    assert same.fingerprint == default_materials().fingerprint
+    lines = text.read_text().splitlines()
+    row = next(i for i, ln in enumerate(lines) if ln.startswith("550.0,"))
+    cols = lines[row].split(",")
+    cols[2] = f"{float(cols[2]) * 1.01:.6f}"                  # yellow k at 550 nm, +1 %
+    lines[row] = ",".join(cols)
+    edited_path = tmp_path / "edited.csv"
+    edited_path.write_text("\n".join(lines) + "\n")
+    edited = load_material_data(edited_path)
+    assert edited.fingerprint != same.fingerprint
+    assert table_request("Y30", materials=edited).key() != table_request("Y30", materials=same).key()
+    assert table_request("Y30", materials=same).key() == table_request("Y30").key()
+    # and the numbers follow the data the request carries
+    from solver.table.builder import build_table
+
+    a = build_table(table_request("Y30", materials=same))
+    b = build_table(table_request("Y30", materials=edited))
+    assert np.max(np.abs(a.Tbar - b.Tbar)) > 0 and b.meta["materials"]["fingerprint"] == edited.fingerprint
+
+
+def test_code_fingerprint_ignores_docstrings_and_comments(tmp_path):
+    code = 'def f(x):\n    """Doc."""\n    return 2 * x  # twice\n'
+    paths = {}
+    for name, text in (("a", code), ("b", code.replace("Doc.", "Other words.").replace("# twice", "")),
+                       ("c", code.replace("2 * x", "3 * x"))):
+        paths[name] = tmp_path / f"{name}.py"
+        paths[name].write_text(text)
+    digest = {k: file_digest(str(p), 0) for k, p in paths.items()}
+    assert digest["a"] == digest["b"] != digest["c"]
+
+
+@pytest.mark.parametrize("kwargs, option", [
+    (dict(grid=(1, 1, 1)), "--grid"), (dict(grid=(3, 3, 3)), "--grid"),
+    (dict(tolerance=-1.0), "--tolerance"), (dict(tolerance=math.nan), "--tolerance"),
+    (dict(solver_tol=0.0), "--solver-tol"), (dict(seed=-1), "--seed"),
+    (dict(realizations=0), "--realizations"), (dict(thickness_nm=math.inf), "--thickness"),
+    (dict(thickness_nm=-5.0), "--thickness"), (dict(wavelengths_nm=(300.0, 500.0)), "--wavelengths"),
+    (dict(wavelengths_nm=(400.0, 900.0)), "--wavelengths"), (dict(tier="thin-film"), "--tier"),
+    (dict(polarisation="circular"), "--polarisation"), (dict(accuracy="ultra"), "--accuracy"),
+    (dict(bogus=1), "bogus"),
+])
+def test_meaningless_settings_are_refused_naming_the_option(kwargs, option):
+    with pytest.raises(RequestError, match=option.replace("-", r"\-")):
+        table_request("Y7.5+B7.5", "sphere:300", **kwargs)
+
+
+def test_clear_with_particles_and_molecular_tiers_are_refused():
+    with pytest.raises(RequestError, match="clear"):
+        table_request("clear", "sphere:100")
+    with pytest.raises(RequestError, match="--tier"):
+        table_request("R30", tier="full")
+    with pytest.warns(UserWarning, match="--grid"):
+        table_request("R30", grid=(64, 64, 32))
+
+
+def test_wavelength_range_refuses_absurd_counts():
+    with pytest.raises(RequestError, match="--wavelengths"):
+        wavelength_range("400:700:1e-6")
+    with pytest.raises(RequestError, match="--wavelengths"):
+        wavelength_range("400:nan:10")
+
+
+def test_stacks_parse_into_layers():
+    req = table_request("Y15/B15", thickness_nm=(800.0, 1000.0))
+    assert [l.ink.label for l in req.layers] == ["Y15", "B15"]
+    assert [l.thickness_nm for l in req.layers] == [800.0, 1000.0] and req.thickness_nm == 1800.0
+    with pytest.raises(RequestError, match="--thickness"):
+        table_request("Y15/B15", thickness_nm=(800.0, 900.0, 1000.0))
