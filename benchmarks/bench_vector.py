@@ -19,11 +19,12 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
 
 from benchmarks.vector import compare, runs
-from benchmarks.vector.cases import Case
+from benchmarks.vector.cases import Case, host_eps, sphere_eps
 
 COLOUR_WAVELENGTHS = (420.0, 470.0, 520.0, 580.0, 660.0)
 
@@ -91,9 +92,25 @@ def _colour(case, ev, es, what) -> dict:
     return out
 
 
+def small_particle_limit(case: Case) -> str:
+    """Quasi-static limit: the scalar equation's effective medium is the volume mean of ε (ε enters
+    as a potential), Maxwell's is Maxwell Garnett (spheres polarise: local-field factor)."""
+    parts = []
+    for lam in case.wavelengths_nm:
+        ep, eh, f = sphere_eps(case, lam), host_eps(), case.fraction
+        beta = (ep - eh) / (ep + 2 * eh)
+        mg = eh * (1 + 2 * f * beta) / (1 - f * beta)
+        mean = (1 - f) * eh + f * ep
+        field = abs(3 * eh / (ep + 2 * eh)) ** 2
+        ratio = f"{mg.imag / mean.imag:.3f}" if mean.imag > 1e-9 else "(no loss)"
+        parts.append(f"{lam:g}: Im ε MG/mean {ratio}, |E_in/E_0|² {field:.3f}")
+    return "; ".join(parts)
+
+
 def print_case(case: Case, vec, sca, missing) -> dict | None:
     print(f"\n--- {case.label}: λ {list(case.wavelengths_nm)} nm, σ {list(case.polar_deg)}°, "
           f"{case.realizations} realization(s), pw cutoff {case.pw_cutoff_per_nm}/nm")
+    print(f"    small-particle limit, vector/scalar: {small_particle_limit(case)}")
     if missing:
         print(f"    vector units missing ({len(missing)}): " +
               ", ".join(f"r{r} λ{lam:g} σ{sig:g}" for r, lam, sig in missing[:8]) +
@@ -127,7 +144,38 @@ def print_case(case: Case, vec, sca, missing) -> dict | None:
         out["plain"] = _colour(case, ev, es, "scalar")
         print("    the same with the local-field-corrected pigment ε in the scalar solver (experiment):")
         out["localfield"] = _colour(case, ev, el, "scalar-LF")
+    out["ensembles"] = (ev, es, el)
     return out
+
+
+def plot(results, path=Path("out/bench/vector_spectra.png")) -> None:
+    """Albedo of the ink on paper seen at 0° and 60° against λ, per complete case."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    done = [(c, e) for c, e in results if e is not None]
+    if not done:
+        return
+    fig, axes = plt.subplots(1, len(done), figsize=(5.5 * len(done), 4), squeeze=False)
+    for ax, (case, (ev, es, el)) in zip(axes[0], done):
+        for j, sig in enumerate(case.polar_deg):
+            if sig not in (0.0, 60.0):
+                continue
+            ls = "-" if sig == 0.0 else "--"
+            ax.plot(case.wavelengths_nm, compare.albedo_on_paper(ev, 2)[:, j], "k" + ls, label=f"vector unpol. {sig:g}°")
+            ax.plot(case.wavelengths_nm, compare.albedo_on_paper(ev, 0)[:, j], "b" + ls, lw=0.8, label=f"vector s {sig:g}°")
+            ax.plot(case.wavelengths_nm, compare.albedo_on_paper(es, 0)[:, j], "r" + ls, label=f"scalar TE {sig:g}°")
+            ax.plot(case.wavelengths_nm, compare.albedo_on_paper(el, 0)[:, j], "g" + ls, lw=0.8,
+                    label=f"scalar TE, local-field ε {sig:g}°")
+        ax.set_title(case.label, fontsize=9)
+        ax.set_xlabel("wavelength (nm)")
+        ax.set_ylabel("ink on paper (r = 0.9): albedo, diffuse light")
+        ax.grid(alpha=0.3)
+    axes[0][0].legend(fontsize=7)
+    fig.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=110)
+    print(f"\nplot: {path}")
 
 
 def quick() -> int:
@@ -161,9 +209,12 @@ def main(argv: list[str] | None = None) -> int:
     print(f"scalar solver polarisations: {', '.join(runs.scalar_polarisations())}; "
           f"scalar grid voxel {runs.SCALAR_VOXEL_NM:.1f} nm, tol {runs.SCALAR_TOL:g}")
     chosen = CASES if not args.case else [CASES[i] for i in args.case]
+    results = []
     for case in chosen:
         vec, sca, missing = units_of(case, compute_until=until)
-        print_case(case, vec, sca, missing)
+        out = print_case(case, vec, sca, missing)
+        results.append((case, (out or {}).get("ensembles")))
+    plot(results)
     return 0
 
 

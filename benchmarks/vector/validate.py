@@ -29,14 +29,15 @@ H = 1000.0
 
 def check_film() -> float:
     worst = 0.0
-    for lam, eps in ((450.0, complex(sphere_eps(Case(100, 0.1, 1000, ()), 450.0))), (600.0, host_eps())):
+    films = ((450.0, complex(sphere_eps(Case(100, 0.1, 1000, ()), 450.0))), (600.0, host_eps()))
+    for lam, eps in films:
         for deg in (0.0, 30.0, 60.0, 80.0):
             R, T, r, _ = tl.clear_slab(lam, math.radians(deg), eps, H)
             for i, pol in enumerate("sp"):
                 Ra, Ta, ra, _ = airy_film(lam, math.radians(deg), eps, H, pol)
                 worst = max(worst, abs(R[i] - Ra), abs(T[i] - Ta), abs(r[i, i] - ra))
-    print(f"1. clear film vs Airy (s, p; λ 450 absorbing ε = {eps:.3f} and 600 binder; σ 0/30/60/80°):"
-          f" max |ΔR|, |ΔT|, |Δr| = {worst:.1e}")
+    print(f"1. homogeneous 1000-nm film in air vs Airy (s, p; pigment Y at 450 nm, ε = {films[0][1]:.3f}, "
+          f"and binder at 600 nm; σ 0/30/60/80°): max |ΔR|, |ΔT|, |Δr| = {worst:.1e}")
     return worst
 
 
