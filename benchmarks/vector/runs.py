@@ -74,13 +74,13 @@ def vector_lmax(case: Case, lam: float) -> int:
 def vector_unit(case: Case, r: int, lam: float, sigma_deg: float, *, compute: bool = True,
                 lmax: int | None = None) -> Unit | None:
     """The treams solve of one unit (cached); None if not cached and compute is False."""
-    from .treams_layer import VectorSettings, solve_cell   # treams: the optional extra
     lmax = vector_lmax(case, lam) if lmax is None else lmax
     path = vector_path(case, r, lam, sigma_deg, lmax)
     if path.exists():
         return _load(path)
     if not compute:
         return None
+    from .treams_layer import VectorSettings, solve_cell   # treams: the optional extra
     real = realization(case, r)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")      # treams' annotation warnings (kpar overwritten)
