@@ -7,6 +7,7 @@ docs/vector_referee.md.
     python -m benchmarks.bench_vector --compute 600    # compute missing units for ≤ 600 s first
     python -m benchmarks.bench_vector --quick          # one small unit (~1–2 min), both solvers
     python -m benchmarks.bench_vector --validate       # the referee's checks (~1–2 min)
+    python -m benchmarks.bench_vector --knobs          # lmax, plane-wave cutoff, scalar grid
     python -m benchmarks.bench_vector --case 1 --compute 3000   # one case only
 
 Vector units are cached in out/bench/vector/ (one .npz per realization, λ, σ); the table lists
@@ -19,6 +20,7 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -167,6 +169,9 @@ def plot(results, path=Path("out/bench/vector_spectra.png")) -> None:
             ax.plot(case.wavelengths_nm, compare.albedo_on_paper(es, 0)[:, j], "r" + ls, label=f"scalar TE {sig:g}°")
             ax.plot(case.wavelengths_nm, compare.albedo_on_paper(el, 0)[:, j], "g" + ls, lw=0.8,
                     label=f"scalar TE, local-field ε {sig:g}°")
+            if np.all(np.isfinite(es.Rbar[..., 2])):
+                ax.plot(case.wavelengths_nm, compare.albedo_on_paper(es, 2)[:, j], "m" + ls,
+                        label=f"scalar unpol. (TE+TM) {sig:g}°")
         ax.set_title(case.label, fontsize=9)
         ax.set_xlabel("wavelength (nm)")
         ax.set_ylabel("ink on paper (r = 0.9): albedo, diffuse light")
@@ -190,6 +195,7 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="python -m benchmarks.bench_vector", description=__doc__.split("\n")[0])
     ap.add_argument("--quick", action="store_true", help="one small unit, both solvers")
     ap.add_argument("--validate", action="store_true", help="run the referee's validation checks")
+    ap.add_argument("--knobs", action="store_true", help="accuracy knobs: lmax, plane-wave cutoff, scalar grid")
     ap.add_argument("--compute", type=float, default=0.0, metavar="SECONDS",
                     help="compute missing vector units, starting new ones for at most this long")
     ap.add_argument("--case", type=int, action="append", metavar="N",
@@ -198,13 +204,18 @@ def main(argv: list[str] | None = None) -> int:
     try:
         import treams  # noqa: F401
     except ImportError:
-        if args.validate or args.quick or args.compute > 0:
+        if args.validate or args.knobs or args.quick or args.compute > 0:
             print("treams is not installed: pip install -e '.[vector]' (optional extra)", file=sys.stderr)
             return 2
         print("(treams not installed: showing cached vector units only)")
     if args.validate:
         from benchmarks.vector import validate
         return validate.main()
+    if args.knobs:
+        from benchmarks.vector import validate
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return validate.knobs()
     if args.quick:
         return quick()
     until = time.monotonic() + args.compute if args.compute > 0 else None

@@ -142,3 +142,47 @@ def main() -> int:
     ok = film < 1e-10 and mie < 1e-6 and dil < 0.03 and closure < 1e-6 and trdiff < 1e-10
     print(f"validation {'passed' if ok else 'FAILED'} in {time.perf_counter() - t0:.0f} s")
     return 0 if ok else 1
+
+
+def knobs() -> int:
+    """Accuracy knobs on small sub-cells of the cases (`bench_vector --knobs`, ~2 min)."""
+    from solver.geometry import eps_grid, voxelize
+    from solver.wave import Cell, Incidence, solve
+
+    t0 = time.perf_counter()
+    lam = 420.0
+    k0 = 2 * math.pi / lam
+    print(f"vector lmax (first 3 spheres of the 300-nm 15 % realization, λ {lam:g}, σ 0, cutoff 0.05/nm):")
+    case = Case(300.0, 0.15, 1000.0, (lam,))
+    real = realization(case, 0)
+    eps = sphere_eps(case, lam)
+    for lmax in (3, 4, 5, 6, 7):
+        res = tl.solve_cell(real.radii_nm[:3], real.centres_nm[:3], eps, lam, 0.0, (1000.0, 1000.0), H,
+                            host_eps(), tl.VectorSettings(lmax, 0.05))
+        print(f"   lmax {lmax}: R_s {res.R[0]:.5f} T_s {res.T[0]:.5f} R_p {res.R[1]:.5f} T_p {res.T[1]:.5f}"
+              f"  ({res.seconds_total:.1f} s){'  ← Mie-tail rule' if lmax == lmax_for(real.radii_nm.max(), lam, eps) else ''}")
+    print(f"vector plane-wave cutoff (the 8 spheres nearest the top face of the 100-nm 15 % realization, "
+          f"its 500-nm cell, λ {lam:g}, σ 30°, lmax 2):")
+    case = Case(100.0, 0.15, 500.0, (lam,))
+    real = realization(case, 0)
+    near = np.argsort(real.centres_nm[:, 2] - real.radii_nm)[:8]
+    print(f"   their gaps to the face: {np.round(np.sort(real.centres_nm[near, 2] - real.radii_nm[near]), 1)} nm")
+    kpar = tl.incidence_kpar(k0, math.radians(30.0))
+    cl = tl.cluster_tmatrix(real.radii_nm[near], real.centres_nm[near], sphere_eps(case, lam), host_eps(), k0, 2)
+    tsol, lat = tl.lattice_solve(cl, (500.0, 500.0), kpar)
+    for cut in (0.04, 0.05, 0.08, 0.12, 0.18):
+        pwb = tl.plane_wave_basis(kpar, lat, cut)
+        tot = tl.stack_layer(tl.slab_smatrix(tsol, lat, kpar, pwb, k0, host_eps(), H), pwb, k0, host_eps())
+        R, T, _, _ = tl.layer_response(tot, pwb, kpar, k0)
+        print(f"   cutoff {cut}/nm ({len(pwb)} plane waves): R_s {R[0]:.7f} T_s {T[0]:.7f} R_p {R[1]:.7f} T_p {T[1]:.7f}")
+    print(f"scalar grid (the cases' first realization, λ {lam:g}, σ 0, tol 1e-5):")
+    for d, cell_nm, grids in ((100.0, 500.0, ((32, 32, 64), (48, 48, 96), (64, 64, 128))),
+                              (300.0, 1000.0, ((32, 32, 32), (64, 64, 64), (96, 96, 96)))):
+        real = realization(Case(d, 0.15, cell_nm, (lam,)), 0)
+        for g in grids:
+            vox = voxelize(real, g)
+            res = solve(Cell(eps_grid(vox, lam), (cell_nm, cell_nm), vox.z_range_nm), Incidence(lam, 0.0), tol=1e-5)
+            print(f"   {d:g} nm spheres, {g[0]}×{g[1]}×{g[2]} (voxel {cell_nm / g[0]:.1f} nm): "
+                  f"R {res.R:.5f} T {res.T:.5f} R_spec {res.R_spec:.5f}")
+    print(f"knobs: {time.perf_counter() - t0:.0f} s")
+    return 0
