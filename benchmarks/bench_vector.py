@@ -119,7 +119,8 @@ def print_case(case: Case, vec, sca, missing) -> dict | None:
               (" ..." if len(missing) > 8 else "") + "  (run with --compute SECONDS)")
         return None
     secs = [u.seconds for row in vec for us in row for u in us]
-    print(f"    vector: {vec[0][0][0].info.get('info')}; {np.mean(secs):.0f} s per unit "
+    info = vec[0][0][0].info
+    print(f"    vector: {info.get('info', info)}; {np.mean(secs):.0f} s per unit "
           f"(all units {np.sum(secs) / 60:.1f} min, 2-core VM shared with other jobs)")
     cross = max(float(np.abs(u.r00[0, 1]) ** 2 + np.abs(u.r00[1, 0]) ** 2) / 2
                 for row in vec for us in row for u in us)
