@@ -159,7 +159,8 @@ def plot(results, path=Path("out/bench/vector_spectra.png")) -> None:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    done = [(c, e) for c, e in results if e is not None]
+    done = [(c, e) for c, e in results
+            if e is not None and len(c.wavelengths_nm) >= 3 and len(c.polar_deg) >= 2]
     if not done:
         return
     fig, axes = plt.subplots(1, len(done), figsize=(5.5 * len(done), 4), squeeze=False)
