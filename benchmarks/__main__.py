@@ -10,7 +10,8 @@ import importlib
 import sys
 import time
 
-STUDIES = ("geometry", "wave", "render", "tables", "findings", "polarisation")
+STUDIES = ("geometry", "wave", "render", "tables", "findings", "polarisation", "printing", "figures",
+           "polarized", "separation")
 
 
 def main(argv: list[str]) -> int:

@@ -24,10 +24,10 @@ from pathlib import Path
 
 import numpy as np
 
-from solver.colour import lab_hue_chroma, reflectance_to_srgb8, reflectance_to_xyz, xyz_to_lab
+from solver.colour import lab_hue_chroma
+from solver.figures.cell_colour import cell_lab, cell_srgb8, delta_e, saturation
 from solver.table.builder import BuildOptions, build_table
 from solver.table.cache import TableCache
-from solver.table.evaluate import directional_albedo
 from solver.table.request import table_request
 
 OUT = Path("out/bench")
@@ -39,9 +39,9 @@ CASES += [("Y15+B15", p) for p in ("molecular", "sphere:100", "sphere:300")]
 
 
 def colour(table) -> tuple[np.ndarray, np.ndarray]:
-    """CIELAB and sRGB8 of the ink on paper r = 0.9 under uniform diffuse light, seen at 0°."""
-    refl = directional_albedo(table, 0.9, 0.0)
-    return xyz_to_lab(reflectance_to_xyz(table.wavelengths, refl)), reflectance_to_srgb8(table.wavelengths, refl)
+    """CIELAB and sRGB8 of the ink on paper r = 0.9 under uniform diffuse light, seen at 0°
+    (the colour of a figure cell: solver.figures.cell_colour)."""
+    return cell_lab(table), cell_srgb8(table)
 
 
 def main(argv=None) -> int:
@@ -60,8 +60,8 @@ def main(argv=None) -> int:
               flush=True)
     green = colour(build_table(table_request("G15"), BuildOptions(progress=False, cache=cache)))[0]
     C = lambda ink, p: float(lab_hue_chroma(labs[ink, p])[1])
-    S = lambda ink, p: C(ink, p) / float(labs[ink, p][0])          # CIELAB saturation C*/L*
-    dE = lambda a, b: float(np.linalg.norm(a - b))
+    S = lambda ink, p: float(saturation(labs[ink, p]))              # CIELAB saturation C*/L*
+    dE = lambda a, b: float(delta_e(a, b))
     low, high = "Y7.5+B7.5", "Y15+B15"
     checks = [
         ("1. saturation C*/L* grows with concentration (300 nm; 100 nm; molecular)",

@@ -7,11 +7,12 @@ it first sets `cuda_ad_spectral` where a CUDA device exists, else `llvm_ad_spect
 
 import warnings
 
+from .inks import InkSource, set_stack_provider, stack_provider
 from .lut import InkLUT, load_lut
 from .plugin import PLUGIN_NAME, register
 from .variant import VariantError, check_variant, default_variant, ensure_variant
 
-__all__ = ["InkLUT", "PLUGIN_NAME", "VariantError", "check_variant", "default_variant",
+__all__ = ["InkLUT", "InkSource", "set_stack_provider", "stack_provider", "PLUGIN_NAME", "VariantError", "check_variant", "default_variant",
            "ensure_variant", "load_lut", "register"]
 
 try:

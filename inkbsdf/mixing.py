@@ -9,8 +9,9 @@ inks; S = ∅ bare paper, T̄ = τ̄ = 1, ρ̄ = R = R_spec = 0) its table's qua
     Murray–Davies: f = Σ a_S [R_S/π + R_spec,S δ + r T̄_S(σ) T̄_S(θ) / (π (1 − r ρ̄_S))]
 
 `PrintModel.incident` computes what depends on ωi only (one σ lookup per primary; equal grids
-are located once); `diffuse` adds what depends on ωo. The reference (NumPy) implementation of
-the same formulas is `solver.printing`.
+are located once); `diffuse` adds what depends on ωo. In polarized variants `mirror` gives the
+delta lobe's Mueller elements Σ a_S (b, C, S)_S besides its M00 = `Incident.specular`. The
+reference (NumPy) implementation of the same formulas is `solver.printing`.
 """
 
 from __future__ import annotations
@@ -45,8 +46,8 @@ class Incident:
     bare: object            # Float a_∅
     coupling: object        # Clapper–Yule: r·Σ a_S T̄_S(σ)/(π(1 − r Σ a_S ρ̄_S)), multiplies Σ a_S T̄_S(θ)
     paper: object           # Murray–Davies: a_∅·r/π
-    specular: object        # Spectrum: Σ a_S R_spec,S(σ), weight of the delta lobe
-    albedo_diffuse: object  # Spectrum: ∫ (smooth part of f) cos θo dωo
+    specular: object        # UnpolarizedSpectrum: Σ a_S R_spec,S(σ), weight of the delta lobe
+    albedo_diffuse: object  # UnpolarizedSpectrum: ∫ (smooth part of f) cos θo dωo
 
 
 def demichel(coverages, subset):
@@ -84,10 +85,10 @@ class PrintModel:
 
     def incident(self, wi, wavelengths, coverages, paper) -> Incident:
         """Everything that depends on ωi only; `coverages` a list of Float in [0, 1] (printing
-        order), `paper` a Spectrum in [0, 1]."""
+        order), `paper` an UnpolarizedSpectrum in [0, 1]."""
         r = paper
         cos_i = mi.Frame3f.cos_theta(wi)
-        n = dr.size_v(mi.Spectrum)
+        n = dr.size_v(mi.UnpolarizedSpectrum)
         lam = Located(tuple(wavelengths[j] for j in range(n)))
         sig = Located(dr.safe_acos(cos_i))
         bare = demichel(coverages, ())
@@ -121,7 +122,7 @@ class PrintModel:
         # The paper's bounces under the mixed upper surface: r·Σ a T̄(σ)/(1 − r·Σ a ρ̄).
         through = safe_div(r * t_in, 1.0 - r * rho)
         return Incident(front=cos_i > 0, layers=layers, bare=bare, coupling=through * dr.inv_pi,
-                        paper=None, specular=mi.Spectrum(specular),
+                        paper=None, specular=mi.UnpolarizedSpectrum(specular),
                         albedo_diffuse=layer_albedo + through * tau)
 
     @staticmethod
@@ -133,7 +134,7 @@ class PrintModel:
                 albedo = albedo + a * q.r_diff
             specular = specular + a * q.r_spec
         return Incident(front=cos_i > 0, layers=layers, bare=bare, coupling=None,
-                        paper=bare * r * dr.inv_pi, specular=mi.Spectrum(specular),
+                        paper=bare * r * dr.inv_pi, specular=mi.UnpolarizedSpectrum(specular),
                         albedo_diffuse=albedo)
 
     def spec_probability(self, inc: Incident):
@@ -141,8 +142,20 @@ class PrintModel:
         spec = lane_mean(inc.specular)
         return safe_div(spec, spec + lane_mean(inc.albedo_diffuse))
 
+    def mirror(self, inc: Incident):
+        """Σ a_S (b, C, S)_S: the delta lobe's Mueller elements besides M00 = inc.specular, in
+        the frame of the plane of incidence (`inkbsdf.lut.mirror_mueller`). Each primary's
+        matrix is weighted by its Demichel weight (Murray–Davies and Clapper–Yule alike: the
+        mirror beams never reach the paper)."""
+        b = c = s = 0.0
+        for layer in inc.layers:
+            lb, lc, ls = layer.model.mirror(layer.lam, layer.sig)
+            b, c, s = b + layer.weight * lb, c + layer.weight * lc, s + layer.weight * ls
+        return tuple(mi.UnpolarizedSpectrum(x) for x in (b, c, s))
+
     def diffuse(self, inc: Incident, wi, wo):
-        """Smooth part of f(ωi, ωo)·cos θo (Spectrum); zero unless both directions are above."""
+        """Smooth part of f(ωi, ωo)·cos θo (UnpolarizedSpectrum); zero unless both directions
+        are above."""
         cos_o = mi.Frame3f.cos_theta(wo)
         theta = Located(dr.safe_acos(cos_o))
         if self.clapper_yule:

@@ -5,12 +5,15 @@
     at_incidence(λ, σ) → R_spec(σ), T̄(σ), R_diff(σ) (or None), ρ̄, τ̄
     exit_transmittance(λ, θ) → T̄(θ)                  (the σ-indexed column, one function of angle)
     layer(λ, σ, θ, Δφ) → R(σ, θ, Δφ)                  (tables with a diffuse lobe only)
+    mirror(λ, σ) → (b, C, S)                          the mirror beam's Mueller elements besides
+                                                      M00 = R_spec (polarized variants only)
 
 σ = polar angle of ωi (toward the light), θ = polar angle of ωo (toward the viewer), both in
 Mitsuba's local frame and pointing away from the surface; Δφ = |φi − φo| folded into [0, π]
-(π = mirror, 0 = retro-reflection). How the inks of a print and the paper combine these is
-`inkbsdf.mixing`. Every quantity comes from the table at the lane's wavelengths (clamped to
-the table's range). Divisions elsewhere use `safe_div`: no lane ever yields NaN or Inf.
+(π = mirror, 0 = retro-reflection). Spectra are `mi.UnpolarizedSpectrum` (= `mi.Spectrum` in
+unpolarized variants; in polarized ones `mi.Spectrum` is a Mueller matrix). How the inks of a
+print and the paper combine these is `inkbsdf.mixing`. Every quantity comes from the table at
+the lane's wavelengths (clamped to the table's range). Divisions elsewhere use `safe_div`: no lane ever yields NaN or Inf.
 """
 
 from __future__ import annotations
@@ -33,7 +36,7 @@ def safe_div(num, den):
 
 def lane_mean(spectrum):
     """Mean over the lane's wavelengths (explicit: dr.mean's axis differs between variants)."""
-    n = dr.size_v(mi.Spectrum)
+    n = dr.size_v(mi.UnpolarizedSpectrum)
     total = spectrum[0]
     for j in range(1, n):
         total = total + spectrum[j]
@@ -41,8 +44,8 @@ def lane_mean(spectrum):
 
 
 def spectrum_of(values):
-    """Assemble per-wavelength arrays into a Spectrum."""
-    return mi.Spectrum(*values)
+    """Assemble per-wavelength arrays into an (unpolarized) spectrum."""
+    return mi.UnpolarizedSpectrum(*values)
 
 
 def cos_dphi(wi, wo):
@@ -63,7 +66,10 @@ class AtIncidence:
 
 
 class InkModel:
-    """Dr.Jit lookup tables of one ink; built under (and used with) one Mitsuba variant."""
+    """Dr.Jit lookup tables of one ink; built under (and used with) one Mitsuba variant.
+
+    In polarized variants a table with s and p amplitudes (`lut.mirror_sp`) also gets the
+    mirror beam's Mueller elements (`mirror`, when `has_mirror_sp`)."""
 
     def __init__(self, lut: InkLUT):
         self.has_diffuse = lut.has_diffuse
@@ -76,6 +82,9 @@ class InkModel:
             self.theta_axis = Axis(lut.theta_rad)
             self.dphi_axis = Axis(lut.dphi_rad)
             self.R_table = NodeTable(lut.R[..., None])                    # [nλ, nσ, nθ, nφ, 1]
+        self.has_mirror_sp = bool(mi.is_polarized) and lut.mirror_sp is not None
+        if self.has_mirror_sp:
+            self.mirror_table = NodeTable(lut.mirror_sp)                  # [nλ, nσ, 3]
 
     def at_incidence(self, lam, sig) -> AtIncidence:
         """Quantities at located wavelengths `lam` (one (i, t) per channel) and σ `sig`."""
@@ -98,3 +107,10 @@ class InkModel:
         """R(σ, θ, Δφ) (π·f of the layer's diffuse lobe); θ and Δφ located on `theta_axis`,
         `dphi_axis`. Only for tables with a diffuse lobe."""
         return spectrum_of([self.R_table.lerp([lam[j], sig, theta, dphi])[0] for j in range(len(lam))])
+
+    def mirror(self, lam, sig):
+        """(b, C, S) of the mirror beam's Mueller matrix (`inkbsdf.lut.mirror_mueller`) at
+        located wavelengths and σ; each element interpolated like R_spec, so a lerp of pure
+        Mueller matrices (a physical, partly depolarising mix). Polarized variants only."""
+        cols = [self.mirror_table.lerp([lam[j], sig]) for j in range(len(lam))]
+        return tuple(spectrum_of([cols[j][k] for j in range(len(lam))]) for k in range(3))

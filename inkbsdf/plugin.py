@@ -6,7 +6,9 @@ One ink (`filename` | `ink`, `coverage`) or up to four printed in order (`filena
 
 Components: 0 = coherent specular reflection of the layers (a delta lobe, Σ a_S R_spec,S(σ)),
 1 = everything smooth (diffuse layer lobes, light through the layers to the paper and back, bare
-paper). Front side only; spectral, unpolarized variants only.
+paper). Front side only; spectral variants. In the polarized ones (`*_spectral_polarized`) the
+delta lobe is the Mueller matrix of the mirror beams, built from the tables' s and p amplitudes,
+and the smooth lobe depolarises (`inkbsdf.polarized`); tables without r_s, r_p are refused there.
 
 Sampling picks the delta lobe with probability P_spec = mean_λ(specular)/mean_λ(total albedo)
 per lane and otherwise samples the cosine-weighted hemisphere; `pdf` and `eval` cover component
@@ -19,11 +21,13 @@ import drjit as dr
 import mitsuba as mi
 
 from solver.printing import DEFAULT_COVERAGE_MODEL, check_coverage_model, possible_primaries, stack_order
+from solver.table import TableError
 from .coverage import coverage_support
 from .errors import InkParameterError, plugin_factory
 from .inks import load_inks, numbered_inks, stack_lut
 from .mixing import PrintModel
 from .model import InkModel
+from .polarized import depolarizing, in_stokes_frames, mirror_matrix
 from .variant import check_variant
 
 PLUGIN_NAME = "ink"
@@ -45,6 +49,22 @@ def _lobes(ctx):
     """(specular enabled, diffuse enabled) for this context."""
     return (ctx.is_enabled(mi.BSDFFlags.DeltaReflection, SPECULAR),
             ctx.is_enabled(mi.BSDFFlags.DiffuseReflection, DIFFUSE))
+
+
+def _smooth(value):
+    """The smooth lobe's value as this variant's Spectrum: a depolarising Mueller matrix in
+    polarized variants."""
+    return depolarizing(value) if mi.is_polarized else value
+
+
+def check_polarizable(lut) -> None:
+    """TableError unless `lut` has the s and p amplitudes a polarized variant needs."""
+    if lut.mirror_sp is None:
+        raise TableError(
+            f"ink BSDF: {lut.source}: the polarized variant '{mi.variant()}' needs the mirror beam's "
+            f"s and p amplitudes (r_s, r_p), and this table (polarisation '{lut.polarisation}') has "
+            "none: use a table built with polarisation 'unpolarised', or an unpolarized variant "
+            f"('{mi.variant().replace('_polarized', '')}')")
 
 
 def model_for(lut):
@@ -107,13 +127,16 @@ def _define_class():
                 if subset not in self._stacks:
                     self._stacks[subset] = stack_lut(tuple(self.inks[i] for i in stack_order(subset)))
                 luts.append((subset, self._stacks[subset]))
+            if mi.is_polarized:        # every ink, even one with no area yet, and the stacks
+                for lut in [ink.lut for ink in self.inks] + [lut for _, lut in luts]:
+                    check_polarizable(lut)
             self.model = PrintModel([(s, model_for(lut)) for s, lut in luts], len(self.inks),
                                     self.coverage_model)
             self.primaries = primaries
 
         def _incident(self, si, active):
             cov = [_clamp01(t.eval_1(si, active)) for t in self.coverages]
-            r = _clamp01(mi.Spectrum(self.paper.eval(si, active)))
+            r = _clamp01(mi.UnpolarizedSpectrum(self.paper.eval(si, active)))
             return self.model.incident(si.wi, si.wavelengths, cov, r)
 
         def _spec_prob(self, ctx, inc):
@@ -145,9 +168,17 @@ def _define_class():
             bs.sampled_component = dr.select(pick_spec, mi.UInt32(SPECULAR), mi.UInt32(DIFFUSE))
             bs.sampled_type = dr.select(pick_spec, mi.UInt32(+mi.BSDFFlags.DeltaReflection),
                                         mi.UInt32(+mi.BSDFFlags.DiffuseReflection))
-            w_spec = inc.specular * (1.0 / dr.select(p_spec > 0, p_spec, 1.0))
+            inv_p_spec = 1.0 / dr.select(p_spec > 0, p_spec, 1.0)
             f_diff = self.model.diffuse(inc, si.wi, wo_diff)
             w_diff = dr.select(pdf_diff > 0, f_diff / dr.select(pdf_diff > 0, pdf_diff, 1.0), 0.0)
+            if mi.is_polarized:
+                b, c, s = self.model.mirror(inc)
+                w_spec = in_stokes_frames(mirror_matrix(inc.specular * inv_p_spec, b * inv_p_spec,
+                                                        c * inv_p_spec, s * inv_p_spec),
+                                          si.wi, wo_spec, ctx.mode)
+                w_diff = depolarizing(w_diff)
+            else:
+                w_spec = inc.specular * inv_p_spec
             weight = dr.select(pick_spec, w_spec, w_diff)
             ok = active & inc.front & (bs.pdf > 0)
             bs.pdf = dr.select(ok, bs.pdf, 0.0)
@@ -157,7 +188,7 @@ def _define_class():
             if not _lobes(ctx)[1]:
                 return mi.Spectrum(0.0)
             value = self.model.diffuse(self._incident(si, active), si.wi, wo)
-            return dr.select(active, value, 0.0)
+            return dr.select(active, _smooth(value), 0.0)
 
         def pdf(self, ctx, si, wo, active=True):
             if not _lobes(ctx)[1]:
@@ -172,7 +203,7 @@ def _define_class():
             inc = self._incident(si, active)
             ok = active & inc.front & (mi.Frame3f.cos_theta(wo) > 0)
             value = self.model.diffuse(inc, si.wi, wo)
-            return dr.select(ok, value, 0.0), dr.select(ok, self._pdf(ctx, inc, wo), 0.0)
+            return dr.select(ok, _smooth(value), 0.0), dr.select(ok, self._pdf(ctx, inc, wo), 0.0)
 
         def traverse(self, callback):
             callback.put("paper", self.paper, mi.ParamFlags.Differentiable)

@@ -26,7 +26,7 @@ def resolve_path(filename: str) -> Path:
 #: Scene parameters of an in-scene ink (instead of `filename`) → `table_request` arguments.
 REQUEST_PARAMS = {"ink": "ink", "particles": "particles", "thickness": "thickness_nm",
                   "accuracy": "accuracy", "polarisation": "polarisation", "realizations": "realizations",
-                  "tolerance": "tolerance", "seed": "seed", "tier": "tier"}
+                  "tolerance": "tolerance", "seed": "seed", "tier": "tier", "target_se": "target_se"}
 _INTEGER_PARAMS = ("realizations", "seed", "workers")
 
 #: worker processes for tables that scene loads build (set by `set_build_workers`)
@@ -150,4 +150,50 @@ def load_table(props) -> InkLUT:
     if not path.is_file():
         raise TableError(f"{filename}: table file not found (looked relative to the scene file and "
                          "on Mitsuba's search path; build it with `ink-tables build` or `make tables`)")
+    return load_lut(path)
+
+
+class _Params(dict):
+    """A plain mapping read like mitsuba.Properties (`name in p`, `p.get(name)`)."""
+
+    def get(self, name, default=None):
+        return self[name] if name in self else default
+
+
+def _member_request(member):
+    """The request of one ink of an overprint: from its scene parameters, or from the meta of
+    its table file."""
+    from solver.table import read_table
+    from solver.table.request import table_request as make_request
+
+    params = _Params(member.params)
+    if "ink" in params:
+        return table_request(params)
+    meta = read_table(params["filename"]).meta
+    return make_request(meta["ink"], meta.get("particles", "molecular"), thickness_nm=meta.get("thickness_nm"),
+                        polarisation=meta.get("polarisation", "te"))
+
+
+def stack_lut(members) -> InkLUT:
+    """The table of an overprint (members top first) through the cache: an exact multilayer
+    film of the members' layers (inkbsdf.inks calls this for every overprint a scene can show)."""
+    from solver.table.builder import BuildOptions, get_or_build
+    from solver.table.cache import TableCache
+    from solver.table.request import table_request as make_request
+
+    try:
+        requests = [_member_request(m) for m in members]
+        layers = tuple(layer for req in requests for layer in req.layers)
+        if any(not layer.molecular for layer in layers):
+            raise TableError(f"ink BSDF: the overprint {'/'.join(m.label for m in members)} has particle "
+                             "layers; overprints are exact multilayer films of molecular inks so far "
+                             "(print particle inks without overlapping coverage)")
+        stack = make_request(layers, polarisation=requests[0].polarisation, materials=requests[0].materials)
+    except TableError:
+        raise
+    except ValueError as exc:
+        raise TableError(f"ink BSDF: overprint {'/'.join(m.label for m in members)}: {exc}") from None
+    cache_dir = next((m.params["cache"] for m in members if "cache" in m.params), None)
+    cache = TableCache(Path(str(cache_dir))) if cache_dir else TableCache.default()
+    _, path, _ = get_or_build(stack, BuildOptions(cache=cache, workers=1, progress=False))
     return load_lut(path)

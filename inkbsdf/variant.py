@@ -1,4 +1,5 @@
-"""Which Mitsuba variant the plugin runs in: spectral, unpolarized.
+"""Which Mitsuba variant the plugin runs in: spectral, unpolarized or polarized
+(`*_spectral_polarized`: the mirror lobe is a Mueller matrix, inkbsdf/polarized.py).
 
 `check_variant` is the one place that decides whether the ink BSDF supports a variant; the
 others (`usable_variants`, `select_variant`, `bsdf_class` in plugin.py) ask it.
@@ -26,9 +27,10 @@ def default_variant() -> str:
 
 
 def _counterpart(variant: str) -> str:
-    """The spectral, unpolarized variant on the same backend: llvm_ad_mono_polarized → llvm_ad_spectral."""
+    """The spectral variant on the same backend, polarized if `variant` is:
+    llvm_ad_rgb → llvm_ad_spectral, llvm_ad_mono_polarized → llvm_ad_spectral_polarized."""
     backend = variant.split("_ad_")[0] + "_ad" if "_ad_" in variant else variant.split("_")[0]
-    return f"{backend}_spectral"
+    return f"{backend}_spectral" + ("_polarized" if variant.endswith("_polarized") else "")
 
 
 def check_variant(variant: str | None) -> str:
@@ -41,9 +43,6 @@ def check_variant(variant: str | None) -> str:
         raise VariantError(f"the ink BSDF needs a spectral Mitsuba variant, the active one is "
                            f"'{variant}': an RGB or mono variant would give wrong colours "
                            f"(use '{_counterpart(variant)}')")
-    if "polarized" in variant:
-        raise VariantError(f"the ink BSDF is unpolarized (its tables come from a scalar wave solver), "
-                           f"the active variant '{variant}' is polarized (use '{_counterpart(variant)}')")
     return variant
 
 

@@ -4,19 +4,25 @@
 
 printed_page.xml: an A4 sheet (cm) with a colour chart of six ink patches (R30, Y30, B30, G30,
 the particle-free Y25+B5 mix and clear varnish), their labels, a title and a paragraph printed
-in B30 through a coverage texture (white = ink), on a dark table under a sky-gradient
-environment and a softbox at a low angle whose mirror image puts the inks' sheen on the far
-row of patches.  Its inks are table files (`make tables`).
+in B30 through a coverage texture (white = ink), and a photograph (a still life the project
+renders, `still_life.py`) printed with R30, Y30 and B30 as AM halftone dots — separated and
+screened by `solver.separation`, as `python -m inkbsdf.print` does — on a dark table under a
+sky-gradient environment and a softbox at a low angle whose mirror image puts the inks' sheen
+on the far row of patches.  Its inks are table files (`make tables`).
 particle_inks.xml: the same page with one pigment load, Y7.5+B7.5, as a molecular mix and as
 grains (30, 100 and 300 nm, clustered 100 nm, rough-top 300 nm) — the paper's size effect,
 with the softbox's mirror image on the paragraph instead of the patches.  Its inks are named
 in the scene (`ink`, `particles`): loading it builds the missing tables through the cache
 (wave solver, minutes per table).
-The outputs are committed; rerun after changing a layout.
+The outputs are committed; rerun after changing a layout (the photograph's separation takes
+a few seconds; `--no-photo` keeps the committed photograph textures, `--render-photo` renders
+the still life again).
+Scene pieces shared with `python -m inkbsdf.print` live in `inkbsdf/pagescene.py`.
 """
 
 from __future__ import annotations
 
+import sys
 import textwrap
 from dataclasses import dataclass
 from pathlib import Path
@@ -24,14 +30,17 @@ from pathlib import Path
 import numpy as np
 
 HERE = Path(__file__).resolve().parent
-PAGE_W_CM, PAGE_H_CM = 21.0, 29.7
+sys.path.insert(0, str(HERE.parent))             # run as a script: the repository's packages
+from inkbsdf.pagescene import (A4_CM, CAMERA_EYE_CM, SOFTBOX_HEIGHT_CM, PATCH_LIFT_CM,  # noqa: E402,F401
+                               Stage, bitmap_xml, ink_bsdf_xml, print_shape_xml, rect_transform,
+                               scene_document, stage_xml, write_sky)
+
+PAGE_W_CM, PAGE_H_CM = A4_CM
+STAGE = Stage.for_sheet(PAGE_W_CM, PAGE_H_CM)
+CAMERA = CAMERA_EYE_CM
 TEXT_PX_PER_CM = 48
-SKY_SIZE = (256, 128)                  # lat-long width, height
 TEXT_INK = "B30"
-PATCH_LIFT_CM = 0.02                   # patches lie on the page, a hair above it
 TITLE_MAX_WIDTH_CM, LABEL_MAX_WIDTH_CM = 18.0, 5.0
-CAMERA = (0.0, 30.0, 33.0)             # eye, cm; looks at the page centre from ~42° above it
-SOFTBOX_HEIGHT_CM = 40.0
 
 
 @dataclass(frozen=True)
@@ -45,6 +54,30 @@ class Patch:
 
 
 @dataclass(frozen=True)
+class TextBox:
+    """Where the paragraph goes: left edge and first baseline (cm), characters per line, em
+    height and line spacing (cm)."""
+
+    u_cm: float
+    v_cm: float
+    width_chars: int
+    em_cm: float
+    leading_cm: float
+
+
+@dataclass(frozen=True)
+class Photo:
+    """A photograph printed on the page (textures/<page>_photo*.png)."""
+
+    inks: tuple              # printing order (demo table files)
+    dots: str                # solver.separation.parse_dots
+    u_cm: float              # centre
+    v_cm: float
+    width_cm: float          # height from the image's aspect ratio
+    caption: str
+
+
+@dataclass(frozen=True)
 class Page:
     name: str                # scene file stem; texture textures/<name>_text.png
     title: str
@@ -53,21 +86,26 @@ class Page:
     patches: tuple
     in_scene_inks: bool      # True: BSDFs name their inks; False: $tables/<ink>.npz files
     sheen_uv_cm: tuple       # (u, v) on the page where the softbox's mirror image lands
+    text: TextBox = TextBox(2.5, 21.4, 62, 0.5, 0.85)
+    photo: Photo | None = None
 
 
 ROW1, ROW2 = 8.6, 15.4
+PHOTO_SIZE_PX = (360, 270)             # the still life (still_life.py), width × height
 PRINTED_PAGE = Page(
     "printed_page", "Printed ink on paper",
     "wave-optics tables of a 1 µm ink layer, rendered with Mitsuba 3",
     "Each coloured patch is a binder layer one micrometre thick holding 30 % pigment by volume. "
     "Its colour comes from light that crosses the layer, scatters in the paper and crosses "
     "it again; its sheen is the layer's coherent mirror reflection, tinted by thin-film "
-    "interference. The green patch is a molecular mix of blue and yellow pigment; the "
-    "yellow-green one mixes 25 % yellow with 5 % blue. Clear varnish shows only its gloss.",
+    "interference. G30 is a molecular mix of blue and yellow pigment. The photograph is "
+    "printed with three inks in halftone dots; where dots overlap, the inks lie in layers.",
     (Patch("R30", "R30", 5.0, ROW1), Patch("Y30", "Y30", 10.5, ROW1),
      Patch("clear", "clear varnish", 16.0, ROW1), Patch("B30", "B30", 5.0, ROW2),
      Patch("G30", "G30 (molecular)", 10.5, ROW2), Patch("Y25+B5", "Y25+B5 mix", 16.0, ROW2)),
-    in_scene_inks=False, sheen_uv_cm=(13.07, 9.28))
+    in_scene_inks=False, sheen_uv_cm=(13.07, 9.28),
+    text=TextBox(1.9, 20.7, 44, 0.42, 0.68),
+    photo=Photo(("R30", "Y30", "B30"), "AM:20", 15.45, 23.2, 8.1, "R30 + Y30 + B30, AM 20 lpi"))
 PARTICLE_PAGE = Page(
     "particle_inks", "Same pigment, different grains",
     "7.5 % yellow + 7.5 % blue by volume in a 1 µm layer: wave-optics tables",
@@ -96,13 +134,25 @@ def patch_id(p: Patch) -> str:
     return "patch_" + p.ink.replace("+", "_").replace(".", "p") + tail
 
 
+def photo_size_cm(photo: Photo) -> tuple:
+    """(width, height) of the printed photograph."""
+    return photo.width_cm, photo.width_cm * PHOTO_SIZE_PX[1] / PHOTO_SIZE_PX[0]
+
+
+def photo_texture_files(page: Page) -> list:
+    """The photograph's coverage textures (relative to scenes/), printing order."""
+    from solver.separation.job import texture_name
+
+    return [f"textures/{texture_name(page.name + '_photo', i, ink)}" for i, ink in enumerate(page.photo.inks)]
+
+
 def _fitting_em_cm(text: str, em_cm: float, max_width_cm: float) -> float:
     """em_cm, or less so that bold text (≈ 0.62 em per character) fits in max_width_cm."""
     return min(em_cm, max_width_cm / (0.62 * len(text)))
 
 
 def make_text_texture(page: Page, path: Path) -> None:
-    """The page's coverage texture: title, labels, paragraph, crop marks (1 = ink)."""
+    """The page's coverage texture: title, labels, paragraph, caption, crop marks (1 = ink)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -124,10 +174,14 @@ def make_text_texture(page: Page, path: Path) -> None:
         ax.text(p.u_cm, p.v_cm + p.size_cm / 2 + 0.75, p.label, color="white", ha="center",
                 va="baseline", fontsize=pt(_fitting_em_cm(p.label, 0.6, LABEL_MAX_WIDTH_CM)),
                 family="DejaVu Sans", fontweight="bold")
-    lines = textwrap.wrap(page.paragraph, width=62)
-    for k, line in enumerate(lines):
-        ax.text(2.5, 21.4 + 0.85 * k, line, color="white", ha="left", va="baseline",
-                fontsize=pt(0.5), family="DejaVu Serif")
+    box = page.text
+    for k, line in enumerate(textwrap.wrap(page.paragraph, width=box.width_chars)):
+        ax.text(box.u_cm, box.v_cm + box.leading_cm * k, line, color="white", ha="left", va="baseline",
+                fontsize=pt(box.em_cm), family="DejaVu Serif")
+    if page.photo is not None:
+        _, h = photo_size_cm(page.photo)
+        ax.text(page.photo.u_cm, page.photo.v_cm + h / 2 + 0.6, page.photo.caption, color="white",
+                ha="center", va="baseline", fontsize=pt(0.38), family="DejaVu Sans", style="italic")
     for cu, cv in ((1.0, 1.0), (PAGE_W_CM - 1.0, 1.0), (1.0, PAGE_H_CM - 1.0),
                    (PAGE_W_CM - 1.0, PAGE_H_CM - 1.0)):
         ax.plot([cu - 0.5, cu + 0.5], [cv, cv], color="white", lw=1.2)
@@ -135,38 +189,39 @@ def make_text_texture(page: Page, path: Path) -> None:
     fig.canvas.draw()
     rgba = np.asarray(fig.canvas.buffer_rgba())
     plt.close(fig)
-    gray = rgba[:, :, 0].astype(np.uint8)[:, :, None]
     import mitsuba as mi
 
+    gray = rgba[:, :, 0].astype(np.uint8)[:, :, None]
     mi.Bitmap(np.ascontiguousarray(gray), mi.Bitmap.PixelFormat.Y).write(str(path))
 
 
-def sky_radiance(elevation_rad: np.ndarray) -> np.ndarray:
-    """RGB radiance of an overcast-like sky by elevation: the zenith three times as bright as
-    the horizon (CIE overcast gradient), cool above, warm low, a dim ground below."""
-    zenith, horizon = np.array([0.92, 0.96, 1.00]), np.array([1.00, 0.96, 0.90])
-    ground = np.array([0.12, 0.11, 0.10])
-    e = elevation_rad[..., None]
-    up = np.clip(np.sin(e), 0.0, 1.0)
-    sky = (horizon + (zenith - horizon) * up) * (1.0 + 2.0 * up) / 3.0
-    return np.where(e >= 0.0, sky, ground + (horizon / 3.0 - ground) * np.exp(8.0 * e))
+def make_photo_textures(page: Page, render: bool) -> None:
+    """Separate and halftone the photograph (solver.separation), write the textures; `render`
+    (or no photograph yet): render the still life first (LLVM's multithreaded film sums are
+    not bit-reproducible, so the committed photograph is kept otherwise)."""
+    from still_life import render_still_life
+
+    from solver.separation import (PrintSettings, parse_dots, print_image, printed_inks, read_srgb8,
+                                   write_rgb_png)
+
+    photo = page.photo
+    source = HERE / "textures" / f"{page.name}_photo.png"
+    if render or not source.is_file():
+        write_rgb_png(source, render_still_life(*PHOTO_SIZE_PX))
+    rgb8 = read_srgb8(source)
+    settings = PrintSettings(inks=photo.inks, dots=parse_dots(photo.dots), size_cm=photo_size_cm(photo))
+    result = print_image(rgb8, settings, printed_inks(photo.inks))
+    for line in result.separation.report.lines():
+        print(f"{page.name} photograph: {line}")
+    for name, texture in zip(photo_texture_files(page), result.textures):
+        from solver.separation import write_grey_png
+
+        write_grey_png(HERE / name, texture)
 
 
-def make_sky(path: Path) -> None:
-    """Lat-long environment map for Mitsuba's `envmap` (+Y up, row 0 = zenith), float32 EXR."""
-    import mitsuba as mi
-
-    w, h = SKY_SIZE
-    elevation = np.pi / 2 - (np.arange(h) + 0.5) / h * np.pi
-    rgb = np.repeat(sky_radiance(elevation)[:, None, :], w, axis=1).astype(np.float32)
-    mi.Bitmap(rgb, mi.Bitmap.PixelFormat.RGB).write(str(path))
-
-
-def _rect(u_cm, v_cm, half_w, half_h, lift_cm):
-    """<transform> of a rectangle lying on the page: +y is up, page top toward −z."""
-    x, z = u_cm - PAGE_W_CM / 2, v_cm - PAGE_H_CM / 2
-    return (f'<transform name="to_world"><scale x="{half_w:g}" y="{half_h:g}"/>'
-            f'<rotate x="1" angle="-90"/><translate x="{x:g}" y="{lift_cm:g}" z="{z:g}"/></transform>')
+def softbox_origin(page: Page) -> tuple:
+    """Softbox centre at SOFTBOX_HEIGHT_CM whose mirror image, seen from CAMERA, is at sheen_uv_cm."""
+    return STAGE.softbox_origin(page.sheen_uv_cm)
 
 
 def _ink_source(page: Page, ink: str, particles: str | None) -> str:
@@ -180,93 +235,55 @@ def _ink_source(page: Page, ink: str, particles: str | None) -> str:
     return out
 
 
-def softbox_origin(page: Page) -> tuple:
-    """Softbox centre at SOFTBOX_HEIGHT_CM whose mirror image, seen from CAMERA, is at sheen_uv_cm."""
-    u, v = page.sheen_uv_cm
-    p = np.array([u - PAGE_W_CM / 2, 0.0, v - PAGE_H_CM / 2])
-    mirrored_eye = np.array([CAMERA[0], -CAMERA[1], CAMERA[2]])
-    return tuple(mirrored_eye + (p - mirrored_eye) * (SOFTBOX_HEIGHT_CM + CAMERA[1]) / CAMERA[1]), tuple(p)
+def _photo_xml(page: Page) -> str:
+    from solver.separation import PrintSettings, parse_dots
+
+    photo = page.photo
+    settings = PrintSettings(inks=photo.inks, dots=parse_dots(photo.dots))
+    return "\n" + print_shape_xml(
+        STAGE, (photo.u_cm, photo.v_cm), photo_size_cm(photo),
+        [_ink_source(page, ink, None) for ink in photo.inks], photo_texture_files(page),
+        settings.dots.binary, None if settings.dots.binary else settings.model,
+        comment=f"the photograph: {', '.join(photo.inks)} (printing order), {settings.dots.label()}, "
+                f"separated with {settings.model}")
 
 
 def scene_xml(page: Page) -> str:
     patches = "\n".join(
         f'    <shape type="rectangle" id="{patch_id(p)}">\n'
-        f'        {_rect(p.u_cm, p.v_cm, p.size_cm / 2, p.size_cm / 2, PATCH_LIFT_CM)}\n'
+        f'        {rect_transform(STAGE, p.u_cm, p.v_cm, p.size_cm / 2, p.size_cm / 2, PATCH_LIFT_CM)}\n'
         f'        <bsdf type="ink">{_ink_source(page, p.ink, p.particles)}'
         f'<float name="paper" value="$paper"/></bsdf>\n    </shape>' for p in page.patches)
-    tables_param = '' if page.in_scene_inks else '\n    <default name="tables" value="../out/tables"/>'
-    (sx, sy, sz), (px, py, pz) = softbox_origin(page)
     inks = ("inks named in the scene (built through the table cache)" if page.in_scene_inks
             else "tables (folder of <ink>.npz)")
-    return f"""<!-- A printed page: generated by scenes/make_assets.py, edit the layout there.
-     Inks: {inks}.  Parameters: width, height, spp, paper (albedo). Units: cm. -->
-<scene version="3.0.0">{tables_param}
-    <default name="width" value="640"/>
-    <default name="height" value="512"/>
-    <default name="spp" value="64"/>
-    <default name="paper" value="0.9"/>
-    <default name="max_depth" value="4"/>
-
-    <integrator type="path"><integer name="max_depth" value="$max_depth"/></integrator>
-
-    <sensor type="perspective" id="camera">
-        <float name="fov" value="40"/>
-        <transform name="to_world"><lookat origin="{CAMERA[0]:g}, {CAMERA[1]:g}, {CAMERA[2]:g}" target="0, 0, 0.3" up="0, 1, 0"/></transform>
-        <sampler type="independent"><integer name="sample_count" value="$spp"/></sampler>
-        <film type="hdrfilm">
-            <integer name="width" value="$width"/><integer name="height" value="$height"/>
-            <rfilter type="gaussian"/>
-        </film>
-    </sensor>
-
-    <emitter type="envmap" id="sky">
-        <string name="filename" value="textures/sky.exr"/>
-        <float name="scale" value="1.3"/>
-    </emitter>
-
-    <!-- softbox: its mirror image, the sheen, lands at ({page.sheen_uv_cm[0]:g}, {page.sheen_uv_cm[1]:g}) cm on the page -->
-    <shape type="rectangle" id="softbox">
-        <transform name="to_world">
-            <scale x="6" y="3.5"/>
-            <lookat origin="{sx:.1f}, {sy:.1f}, {sz:.1f}" target="{px:.1f}, {py:g}, {pz:.1f}" up="0, 1, 0"/>
-        </transform>
-        <emitter type="area"><rgb name="radiance" value="3.0, 3.0, 3.0"/></emitter>
-    </shape>
-
-    <shape type="rectangle" id="table">
-        {_rect(PAGE_W_CM / 2, PAGE_H_CM / 2, 80, 80, -0.05)}
-        <bsdf type="diffuse"><rgb name="reflectance" value="0.16, 0.11, 0.08"/></bsdf>
-    </shape>
-
+    text = bitmap_xml("coverage", f"textures/{page.name}_text.png")
+    body = stage_xml(STAGE, page.sheen_uv_cm) + f"""
     <!-- the sheet: paper everywhere, {TEXT_INK} ink where the coverage texture is white -->
     <shape type="rectangle" id="page">
-        {_rect(PAGE_W_CM / 2, PAGE_H_CM / 2, PAGE_W_CM / 2, PAGE_H_CM / 2, 0.0)}
-        <bsdf type="ink">
-            {_ink_source(page, TEXT_INK, None)}
-            <float name="paper" value="$paper"/>
-            <texture type="bitmap" name="coverage">
-                <string name="filename" value="textures/{page.name}_text.png"/>
-                <boolean name="raw" value="true"/>
-                <transform name="to_uv"><scale y="-1"/><translate y="1"/></transform>
-            </texture>
-        </bsdf>
+        {rect_transform(STAGE, PAGE_W_CM / 2, PAGE_H_CM / 2, PAGE_W_CM / 2, PAGE_H_CM / 2, 0.0)}
+{ink_bsdf_xml([_ink_source(page, TEXT_INK, None)], [text])}
     </shape>
 
 {patches}
-</scene>
-"""
+""" + (_photo_xml(page) if page.photo is not None else "")
+    return scene_document(f"A printed page: generated by scenes/make_assets.py, edit the layout there.\n"
+                          f"     Inks: {inks}.  Parameters: width, height, spp, paper (albedo). Units: cm.",
+                          body, tables=None if page.in_scene_inks else "../out/tables")
 
 
-def main() -> None:
+def main(argv=None) -> None:
     import mitsuba as mi
 
+    args = sys.argv[1:] if argv is None else argv
     mi.set_variant("scalar_rgb")
     (HERE / "textures").mkdir(exist_ok=True)
-    make_sky(HERE / "textures" / "sky.exr")
+    write_sky(HERE / "textures" / "sky.exr")
     for page in PAGES:
         make_text_texture(page, HERE / "textures" / f"{page.name}_text.png")
+        if page.photo is not None and "--no-photo" not in args:
+            make_photo_textures(page, render="--render-photo" in args)
         (HERE / f"{page.name}.xml").write_text(scene_xml(page))
-        print(f"wrote {HERE / (page.name + '.xml')} and textures/{page.name}_text.png")
+        print(f"wrote {HERE / (page.name + '.xml')} and textures/{page.name}_*")
 
 
 if __name__ == "__main__":

@@ -81,7 +81,7 @@ def test_bad_in_scene_ink_names_the_problem(use_variant):
 
 
 @pytest.mark.parametrize("variant,needle", [("scalar_rgb", "spectral"), ("llvm_ad_mono", "spectral"),
-                                            ("scalar_spectral_polarized", "unpolarized")])
+                                            ("llvm_ad_mono_polarized", "spectral")])
 def test_rgb_variant_refused(use_variant, variant, needle):
     import mitsuba as mi
 
@@ -221,9 +221,8 @@ def test_loader_problem_is_one_line_naming_where_and_what(use_variant, ink_table
 
 
 # ----------------------------------------------------------------------------- variants
-@pytest.mark.parametrize("variant,advice", [("llvm_ad_spectral_polarized", "'llvm_ad_spectral'"),
-                                            ("scalar_spectral_polarized", "'scalar_spectral'"),
-                                            ("llvm_ad_mono_polarized", "'llvm_ad_spectral'"),
+@pytest.mark.parametrize("variant,advice", [("scalar_rgb", "'scalar_spectral'"),
+                                            ("llvm_ad_mono_polarized", "'llvm_ad_spectral_polarized'"),
                                             ("cuda_ad_rgb", "'cuda_ad_spectral'")])
 def test_variant_refusal_says_which_variant_to_use(variant, advice):
     import inkbsdf
@@ -242,10 +241,11 @@ def test_usable_variants_and_selection():
     assert "llvm_ad_spectral" in usable and "scalar_spectral" in usable
     for variant in usable:
         assert inkbsdf.check_variant(variant) == variant
-    assert not any("rgb" in v or "mono" in v or "polarized" in v for v in usable)
+    assert not any("rgb" in v or "mono" in v for v in usable)
+    assert "llvm_ad_spectral_polarized" in usable            # docs/plugin.md, "Polarized variants"
     previous = mi.variant()
     with pytest.raises(inkbsdf.VariantError, match="'bogus' is not a variant.*llvm_ad_spectral"):
         select_variant("bogus")
-    with pytest.raises(inkbsdf.VariantError, match="unpolarized"):
-        select_variant("scalar_spectral_polarized")
+    with pytest.raises(inkbsdf.VariantError, match="spectral"):
+        select_variant("scalar_rgb")
     assert mi.variant() == previous                 # a refused variant is not set

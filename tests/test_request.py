@@ -57,7 +57,7 @@ def test_key_follows_what_changes_the_numbers():
     for other in (table_request("Y7.5+B7.5", "sphere:300", realizations=5),
                   table_request("Y7.5+B7.5", "sphere:300", seed=2),
                   table_request("Y7.5+B7.5", "sphere:300", thickness_nm=900),
-                  table_request("Y7.5+B7.5", "sphere:300", polarisation="unpolarised"),
+                  table_request("Y7.5+B7.5", "sphere:300", polarisation="te"),
                   table_request("Y7.5+B7.5", "sphere:300", accuracy="preview")):
         assert other.key() != base.key()
     assert table_request("Y15/B15").key() != table_request("B15/Y15").key()

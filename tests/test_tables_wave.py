@@ -46,19 +46,34 @@ def table_and_request(tmp_path_factory):
     return build_table(req, opts(tmp_path_factory.mktemp("t"))), req
 
 
-def test_small_table_equals_direct_solves(tmp_path):
-    req = small(realizations=1)
+@pytest.mark.parametrize("polarisation", ["te", "unpolarised"])
+def test_small_table_equals_direct_solves(tmp_path, polarisation):
+    """One realization, one azimuth: a TE table is the TE solve; an unpolarised one is the mean
+    of the TE and TM solves, with the s and p amplitudes stored (conjugated: Mitsuba's sign)."""
+    from solver.inks import molecular_eps
+
+    req = small(realizations=1, polarisation=polarisation)
     table = build_table(req, opts(tmp_path))
     vox = geometry_unit(GeometryUnit(req, 0))
     phi = azimuths(req, 0)[0]
+    pols = ("te",) if polarisation == "te" else ("te", "tm")
     for li, wl in enumerate(req.grids.wavelengths_nm):
         cell = Cell(eps_grid(vox, wl), vox.period_nm, vox.z_range_nm)
+        eps_b = complex(molecular_eps(req.layer.ink, wl))
         for si, sigma in enumerate(req.grids.sigma_rad[:-1]):
-            direct = solve(cell, Incidence(wl, sigma, phi), tol=req.wave.solver_tol)
-            assert table.Rbar[li, si] == pytest.approx(direct.R, abs=1e-9)
-            assert table.Tbar[li, si] == pytest.approx(direct.T, abs=1e-9)
-            assert table.R_spec[li, si] == pytest.approx(direct.R_spec, abs=1e-9)   # one sample: coherent = |α00|²
-            assert table.T_coh[li, si] == pytest.approx(direct.T_coh, abs=1e-9)
+            direct = [solve(cell, Incidence(wl, sigma, phi), tol=req.wave.solver_tol, eps_background=eps_b,
+                            polarisation=p) for p in pols]
+            mean = lambda f: np.mean([f(d) for d in direct])
+            assert table.Rbar[li, si] == pytest.approx(mean(lambda d: d.R), abs=1e-9)
+            assert table.Tbar[li, si] == pytest.approx(mean(lambda d: d.T), abs=1e-9)
+            assert table.R_spec[li, si] == pytest.approx(mean(lambda d: d.R_spec), abs=1e-9)  # one sample: coherent = |α00|²
+            assert table.T_coh[li, si] == pytest.approx(mean(lambda d: d.T_coh), abs=1e-9)
+            if polarisation == "unpolarised":
+                assert table.Rbar_s[li, si] == pytest.approx(direct[0].R, abs=1e-9)
+                assert table.Tbar_p[li, si] == pytest.approx(direct[1].T, abs=1e-9)
+                for amp, d in ((table.r_s, direct[0]), (table.r_p, direct[1])):
+                    assert np.conj(amp[li, si]) == pytest.approx(d.reflected.amp(0, 0), abs=1e-9)
+    assert table.polarisation == polarisation
 
 
 def test_energy_closure_and_lossless_wavelength(table_and_request):
@@ -96,7 +111,7 @@ def test_molecular_ink_through_the_wave_path_equals_the_exact_tier():
     units = [[solve_unit(SolveUnit(req, 0, li, vox)) for li in range(2)]]
     table = reduce_units(req, units, {"schema_version": 1})
     film = build_thinfilm_table(ink, req.thickness_nm, req.grids.wavelengths_nm, req.grids.sigma_rad,
-                                polarisation="te")    # the scalar wave path is TE
+                                polarisation=req.polarisation)    # TE and TM faces in the wave path
     for name in ("R_spec", "T_coh", "Rbar", "Tbar"):
         np.testing.assert_allclose(getattr(table, name), getattr(film, name), atol=2e-4)
     assert np.max(table.R) < 1e-6          # a homogeneous layer scatters nothing diffusely
@@ -227,3 +242,18 @@ def test_wave_table_in_the_bsdf(use_variant, table_and_request, tmp_path):
     for deg in (0.0, 40.0, 75.0):
         mean, err = sampled_albedo(mi, bsdf, deg, rng.uniform(430.0, 700.0, size=(4, 1 << 15)))
         assert 0.05 < mean <= 1.0 + 4.5 * err + 1e-4
+
+
+def test_target_se_adds_realizations_until_met_or_capped(tmp_path, caplog):
+    import logging
+
+    loose = build_table(small(target_se=0.5), opts(tmp_path / "a"))
+    assert loose.meta["realizations_used"] == 2 and len(loose.meta["seeds"]) == 2
+    with caplog.at_level(logging.INFO, logger="inkbsdf.tables"):
+        tight = build_table(small(target_se=1e-6, max_realizations=3), opts(tmp_path / "b"))
+    assert tight.meta["realizations_used"] == 3 and tight.errors["Rbar"].shape == tight.Rbar.shape
+    # the third realization's units were the only new ones: 2 λ, nothing recomputed
+    assert any("2 of 6 units to compute (4 reused)" in r.message for r in caplog.records), \
+        [r.message for r in caplog.records]
+    same = build_table(small(realizations=3), opts(tmp_path / "c"))
+    np.testing.assert_array_equal(tight.Rbar, same.Rbar)

@@ -1,48 +1,16 @@
 """y-invariant lamellar grating against an independent TE RCWA (DESIGN §6: under the scalar
 equation a y-invariant grating is Maxwell's TE case, so any RCWA is a peer).
 
-The RCWA (test_wave_oracles.rcwa_te) uses the exact Fourier coefficients of the step profile
+The RCWA (solver/wave/oracles.rcwa_te, via validation.grating_errors) uses the exact Fourier coefficients of the step profile
 and 2·60+1 harmonics (converged to ~1e-7 in the amplitudes); the solver sees the sub-voxel
 averaged grid.  This is the oracle of the lateral (pseudo-spectral) discretisation.
 """
 from __future__ import annotations
 
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
 
-from solver.wave import Cell, Incidence, solve
-
-sys.path.insert(0, str(Path(__file__).parent))
-from test_wave_oracles import rcwa_te  # noqa: E402
-
-LAM, PERIOD, THICK = 500.0, 800.0, 400.0
-E_BINDER = 1.558 ** 2
-
-
-def _grating_cell(eps_strip, a, b, nx, nz=16):
-    dx = PERIOD / nx
-    lo = np.arange(nx) * dx
-    frac = np.clip(np.minimum(lo + dx, b) - np.maximum(lo, a), 0, dx) / dx
-    eps = E_BINDER + (eps_strip - E_BINDER) * frac
-    return Cell(np.broadcast_to(eps[:, None, None], (nx, 1, nz)).copy(), (PERIOD, PERIOD),
-                (0.0, THICK))
-
-
-def grating_errors(eps_strip, a, b, nx, sigma=0.3, azimuth=0.0):
-    """(max |Δamplitude| over propagating orders, |ΔR|, result) against RCWA."""
-    res = solve(_grating_cell(eps_strip, a, b, nx), Incidence(LAM, sigma, azimuth), tol=1e-9)
-    m, r, t, ka, kc = rcwa_te(1.0, 1.0, eps_strip, E_BINDER, a, b, PERIOD, THICK, LAM, sigma,
-                              60, azimuth)
-    errs = []
-    for i in np.flatnonzero(ka.imag == 0):
-        errs.append(abs(res.reflected.amp(int(m[i]), 0) - r[i]))
-        errs.append(abs(res.transmitted.amp(int(m[i]), 0) - t[i]))
-    power = (ka.real * abs(r) ** 2 * (ka.imag == 0)).sum() / ka[60].real
-    return max(errs), abs(res.R - power), res
-
+from solver.wave.validation import grating_errors
 
 @pytest.mark.parametrize("eps_strip", [(1.4 + 0.2j) ** 2, 1.4 ** 2, (1.4 + 1.1j) ** 2])
 @pytest.mark.parametrize("azimuth", [0.0, 0.7])

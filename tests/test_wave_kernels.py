@@ -128,10 +128,7 @@ def test_galerkin_and_point_kernels_match_quadrature(kt_over_k0):
 
 def test_background_amplitudes_are_airy():
     """The background's response (slab ε_b between two half-spaces) is the Airy formula."""
-    import sys
-    from pathlib import Path
-    sys.path.insert(0, str(Path(__file__).parent))
-    from test_wave_oracles import airy_te
+    from solver.wave.oracles import airy_te
     k0, big_h, sigma = 2 * math.pi / 600, 250.0, 0.5
     eps_b = (1.5 + 0.1j) ** 2
     kt2 = np.array([(k0 * math.sin(sigma)) ** 2])

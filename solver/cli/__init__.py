@@ -14,7 +14,7 @@ import signal
 import sys
 import threading
 
-SUBCOMMANDS = ("build", "show", "geometry")
+SUBCOMMANDS = ("build", "show", "geometry", "paper")
 
 
 def make_parser() -> argparse.ArgumentParser:

@@ -42,6 +42,11 @@ def add_request_arguments(p: argparse.ArgumentParser) -> None:
                    help="preset of the settings below (docs/tables.md: error and cost of each)")
     g.add_argument("--realizations", type=int, default=None,
                    help=f"random cells per wavelength (default {_WAVE.realizations})")
+    g.add_argument("--target-se", type=float, default=None,
+                   help="add realizations until the largest standard error of Rbar and Tbar is at most this "
+                        "(starting from --realizations, at most --max-realizations)")
+    g.add_argument("--max-realizations", type=int, default=None,
+                   help=f"cap for --target-se (default {_WAVE.max_realizations})")
     g.add_argument("--azimuths", type=int, default=None,
                    help=f"incidence azimuths per realization (default {_WAVE.azimuths})")
     g.add_argument("--tolerance", type=float, default=None,
@@ -87,7 +92,8 @@ def request_from_args(args) -> TableRequest:
     overrides = {name: value for name, value in (
         ("realizations", args.realizations), ("azimuths", args.azimuths), ("tolerance", args.tolerance),
         ("tier", args.tier), ("cell_nm", args.cell), ("grid", tuple(args.grid) if args.grid else None),
-        ("solver_tol", args.solver_tol), ("seed", args.seed)) if value is not None}
+        ("solver_tol", args.solver_tol), ("seed", args.seed), ("target_se", args.target_se),
+        ("max_realizations", args.max_realizations)) if value is not None}
     return table_request(
         args.ink, args.particles, thickness_nm=thickness, accuracy=args.accuracy,
         wavelengths_nm=wavelength_range(args.wavelengths) if args.wavelengths else None,

@@ -1,10 +1,11 @@
 """`ink-tables show`: summary of a table and the paper's Fig. 6 picture.
 
-Fig. 6 (paper §3.2): a vertical strip of the ink on paper under uniform diffuse light, view
-angle 0° (top) to 60° (bottom), beside a square of the diffuse BRDF colour, light angle 0–60°
-along x and view angle 0–60° along y.  sRGB under D65, scaled so that a white Lambertian of
-albedo 1 is (255, 255, 255).  The square shows π·f without the mirror lobe, averaged over the
-azimuth difference Δφ (or at one Δφ with --dphi).
+Fig. 6 (paper §3.2; `solver.figures.fig6`): a vertical strip of the ink on paper under uniform
+diffuse light, view angle 0° (top) to 60° (bottom), beside a square of the diffuse BRDF colour,
+light angle 0–60° along x and view angle 0–60° along y, drawn with axes, angle labels and a
+caption.  sRGB under D65, scaled so that a white Lambertian of albedo 1 is (255, 255, 255).
+The square shows π·f without the mirror lobe, averaged over the azimuth difference Δφ (or at
+one Δφ with --dphi).
 """
 
 from __future__ import annotations
@@ -14,28 +15,9 @@ import argparse
 import numpy as np
 
 from ..colour import lab_hue_chroma, reflectance_to_srgb8, reflectance_to_xyz, xyz_to_lab
+from ..figures.fig6 import figure6, plot_figure6  # noqa: F401  (figure6: the picture's arrays)
 from ..table import read_table
-from ..table.evaluate import column_at, diffuse_brdf, directional_albedo
-
-MAX_ANGLE_DEG = 60.0
-
-
-def figure6(table, paper: float = 0.9, size: int = 256, strip: int = 64, gap: int = 16,
-            dphi_deg: float | None = None) -> np.ndarray:
-    """The Fig. 6 image as uint8 RGB, shape (size, strip + gap + size, 3)."""
-    view = np.radians(np.linspace(0.0, MAX_ANGLE_DEG, size))
-    strip_rgb = reflectance_to_srgb8(table.wavelengths, directional_albedo(table, paper, view), axis=0)
-    light = view
-    if dphi_deg is None:
-        dphi = np.linspace(0.0, np.pi, 9)
-        spec = np.mean([diffuse_brdf(table, paper, light[None, :], view[:, None], p) for p in dphi], axis=0)
-    else:
-        spec = diffuse_brdf(table, paper, light[None, :], view[:, None], np.radians(dphi_deg))
-    square_rgb = reflectance_to_srgb8(table.wavelengths, spec, axis=0)       # [view, light, 3]
-    image = np.full((size, strip + gap + size, 3), 255, dtype=np.uint8)
-    image[:, :strip] = strip_rgb[:, None, :]
-    image[:, strip + gap:] = square_rgb
-    return image
+from ..table.evaluate import column_at, directional_albedo
 
 
 def _column_at_deg(table, name: str, degrees: float) -> np.ndarray:
@@ -107,7 +89,7 @@ def add_parser(sub) -> None:
     p = sub.add_parser("show", help="summarise a table; draw the paper's Fig. 6",
                        formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     p.add_argument("file", help="table file (.npz)")
-    p.add_argument("--png", help="write the Fig. 6 picture (strip + BRDF square) here")
+    p.add_argument("--png", help="write the Fig. 6 picture (strip + BRDF square, with axes and a caption) here")
     p.add_argument("--plot", help="write spectra with error bars here (PNG)")
     p.add_argument("--paper", type=float, default=0.9, help="paper albedo r")
     p.add_argument("--dphi", type=float, default=None,
@@ -123,8 +105,7 @@ def run(args) -> int:
     table = read_table(args.file)
     print(summary(table, args.paper))
     if args.png:
-        import matplotlib.image
-        matplotlib.image.imsave(args.png, figure6(table, args.paper, dphi_deg=args.dphi))
+        plot_figure6(table, args.png, args.paper, dphi_deg=args.dphi)
         print(f"wrote {args.png}")
     if args.plot:
         plot_spectra(table, args.plot)

@@ -36,7 +36,8 @@ def resample_wavelengths(table: InkTable, wavelengths_nm) -> InkTable:
     i, t = lerp_weights(table.wavelengths, wl)
 
     def lerp(a):
-        a = np.asarray(a, dtype=np.float64)
+        a = np.asarray(a)
+        a = a.astype(np.complex128 if np.iscomplexobj(a) else np.float64)   # r_s, r_p are complex
         tt = t.reshape((-1,) + (1,) * (a.ndim - 1))
         return a[i] * (1.0 - tt) + a[i + 1] * tt
 

@@ -10,8 +10,10 @@ tier, so they count toward the table when the full tier is chosen.
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import logging
+import math
 import os
 import time
 from dataclasses import dataclass, field
@@ -20,7 +22,7 @@ import numpy as np
 
 from . import tier_choice
 from .cache import TableCache
-from .executor import check_scheduler, default_workers, run_units
+from .executor import check_scheduler, default_workers, local_pool, run_units
 from .meta import table_meta
 from .request import RequestError, TableRequest
 from .schema import InkTable
@@ -37,6 +39,7 @@ class BuildOptions:
     scheduler: str | None = None         # Dask scheduler address: run the units there instead
     progress: bool = True
     cache: TableCache = field(default_factory=TableCache.default)
+    pool: object = field(default=None, compare=False)   # a running executor.local_pool to reuse
 
     def __post_init__(self):
         if not isinstance(self.workers, (int, np.integer)) or isinstance(self.workers, bool) or self.workers < 1:
@@ -83,18 +86,19 @@ def _cached_units(request, opts, names, make_unit, fn, encode, decode, desc):
         log.info("%s: %d of %d units to compute (%d reused)", desc, len(todo), len(names), len(names) - len(todo))
         store = lambda k, res: cache.store_part(request, names[todo[k]], encode(res))
         fresh = run_units(fn, [make_unit(i) for i in todo], workers=opts.workers, scheduler=opts.scheduler,
-                          desc=desc, on_result=store, progress=opts.progress)
+                          desc=desc, on_result=store, progress=opts.progress, pool=opts.pool)
         for k, i in enumerate(todo):
             results[i] = fresh[k]
     return results
 
 
-def _geometry(request, opts, timer):
+def _geometry(request, opts, timer, realizations=None):
     from .wave_tier import GeometryUnit, geometry_unit
 
+    rs = list(range(request.wave.realizations) if realizations is None else realizations)
     t0 = time.perf_counter()
-    out = _cached_units(request, opts, [f"geom_r{r}" for r in range(request.wave.realizations)],
-                        lambda r: GeometryUnit(request, r), geometry_unit,
+    out = _cached_units(request, opts, [f"geom_r{r}" for r in rs],
+                        lambda k: GeometryUnit(request, rs[k]), geometry_unit,
                         _voxels_to_arrays, _voxels_from_arrays, "geometry")
     timer.add("geometry", time.perf_counter() - t0)
     return out
@@ -122,16 +126,30 @@ def _film_table(request: TableRequest, tier: str, reason: str, timer: _Timer, ex
                                                             "mixing_rule": film.meta.get("mixing_rule")}))
 
 
+@contextlib.contextmanager
+def pooled(opts: BuildOptions):
+    """`opts` with a process pool that lives for the whole block (one spawn for all the
+    stages of a build, or for all the tables of a figure); unchanged when no local pool is
+    wanted (one worker, Dask) or one is running already."""
+    if opts.pool is not None or opts.scheduler or opts.workers <= 1:
+        yield opts
+        return
+    with local_pool(opts.workers) as pool:
+        yield dataclasses.replace(opts, pool=pool)
+
+
 def build_table(request: TableRequest, opts: BuildOptions | None = None) -> InkTable:
     """Compute the table of a request (no lookup of the finished table; parts are reused)."""
     opts = opts or BuildOptions()
-    timer = _Timer()
     if request.molecular:
         return _film_table(request, "thin-film", "homogeneous layer: exact Airy (transfer-matrix) solution",
-                           timer)
-    if request.polarisation != "te":
-        raise RequestError(f"--polarisation {request.polarisation}: particle inks are solved for TE light only "
-                           "so far; use --polarisation te")
+                           _Timer())
+    with pooled(opts) as opts:
+        return _build_wave(request, opts)
+
+
+def _build_wave(request: TableRequest, opts: BuildOptions) -> InkTable:
+    timer = _Timer()
     from .wave_ensemble import reduce_units
     from .wave_tier import realization_seed
 
@@ -153,16 +171,41 @@ def build_table(request: TableRequest, opts: BuildOptions | None = None) -> InkT
         voxels = _geometry(request, opts, timer)
     method = "born" if tier == "born" else "full"
     nl, nr = len(request.grids.wavelengths_nm), request.wave.realizations
-    pairs = [(r, li) for r in range(nr) for li in range(nl)]
-    flat = _solves(request, opts, timer, method, voxels, pairs)
-    units = [[flat[r * nl + li] for li in range(nl)] for r in range(nr)]
-    t0 = time.perf_counter()
-    meta = table_meta(request, tier, reason, seeds=[realization_seed(request, r) for r in range(nr)],
-                      timings_s=timer.stages, extra={"tier_probe": report})
-    table = reduce_units(request, units, meta)
-    timer.add("reduce", time.perf_counter() - t0)
+    while True:
+        voxels = voxels + _geometry(request, opts, timer, range(len(voxels), nr))
+        flat = _solves(request, opts, timer, method, voxels, [(r, li) for r in range(nr) for li in range(nl)])
+        units = [[flat[r * nl + li] for li in range(nl)] for r in range(nr)]
+        t0 = time.perf_counter()
+        meta = table_meta(request, tier, reason, seeds=[realization_seed(request, r) for r in range(nr)],
+                          timings_s=timer.stages, extra={"tier_probe": report, "realizations_used": nr})
+        table = reduce_units(request, units, meta)
+        timer.add("reduce", time.perf_counter() - t0)
+        more = _more_realizations(request, table, nr)
+        if more == nr:
+            break
+        log.info("standard error %s above --target-se %g with %d realizations: going on to %d",
+                 _worst_se(table), request.wave.target_se, nr, more)
+        nr = more
     table.meta["timings_s"] = dict(timer.stages)
     return table
+
+
+def _worst_se(table: InkTable) -> float | None:
+    values = [table.meta["errors"].get(f"{k}_se_max") for k in ("Rbar", "Tbar")]
+    return None if None in values else max(values)
+
+
+def _more_realizations(request: TableRequest, table: InkTable, done: int) -> int:
+    """How many realizations the table needs for --target-se (`done` when it is met, not
+    asked, or the cap is reached): N·(SE/target)², at least one more."""
+    target = request.wave.target_se
+    if target is None or done >= request.wave.max_realizations:
+        return done
+    se = _worst_se(table)
+    if se is not None and se <= target:
+        return done
+    wanted = done + 1 if se is None else math.ceil(done * (se / target) ** 2)
+    return min(request.wave.max_realizations, max(done + 1, wanted))
 
 
 def get_or_build(request: TableRequest, opts: BuildOptions | None = None) -> tuple[InkTable, str, bool]:

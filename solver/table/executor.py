@@ -12,6 +12,7 @@ No worker outlives its build: local workers ask the kernel to kill them when the
 
 from __future__ import annotations
 
+import contextlib
 import ctypes
 import logging
 import multiprocessing
@@ -78,14 +79,26 @@ def _stop(pool: ProcessPoolExecutor) -> None:
         proc.join(timeout=5)
 
 
-def _run_pool(fn, units, workers, done) -> None:
-    # spawn, not fork: the caller may be a multithreaded process (a Mitsuba scene load); each
-    # unit carries its own FFT thread count
+@contextlib.contextmanager
+def local_pool(workers: int):
+    """A process pool for several `run_units` calls (a table's stages, a figure's tables):
+    workers are spawned once — spawning and importing the solver costs about a second each.
+    Spawn, not fork: the caller may be a multithreaded process (a Mitsuba scene load); each unit
+    carries its own FFT thread count.  On an interrupt or a failure the workers are killed."""
     pool = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"),
                                initializer=_init_worker, initargs=(os.getpid(),))
     try:
-        futures = {pool.submit(fn, unit): i for i, unit in enumerate(units)}
-        pending = set(futures)
+        yield pool
+    except BaseException:
+        _stop(pool)
+        raise
+    pool.shutdown(wait=True)
+
+
+def _run_pool(fn, units, pool, done) -> None:
+    futures = {pool.submit(fn, unit): i for i, unit in enumerate(units)}
+    pending = set(futures)
+    try:
         while pending:
             finished, pending = wait(pending, return_when=FIRST_COMPLETED)
             for fut in finished:
@@ -93,7 +106,6 @@ def _run_pool(fn, units, workers, done) -> None:
     except BaseException:
         _stop(pool)
         raise
-    pool.shutdown(wait=True)
 
 
 def _run_dask(fn, units, scheduler, done) -> None:
@@ -113,8 +125,9 @@ def _run_dask(fn, units, scheduler, done) -> None:
 
 def run_units(fn: Callable, units: Sequence[Any], *, workers: int = 1, scheduler: str | None = None,
               desc: str = "units", on_result: Callable[[int, Any], None] | None = None,
-              progress: bool = True) -> list:
-    """Evaluate fn(unit) for every unit; return the results in unit order."""
+              progress: bool = True, pool: ProcessPoolExecutor | None = None) -> list:
+    """Evaluate fn(unit) for every unit; return the results in unit order (on `pool` when
+    given, else on a pool of `workers` processes made for this call, or in this process)."""
     results: list = [None] * len(units)
     if not units:
         return results
@@ -129,11 +142,14 @@ def run_units(fn: Callable, units: Sequence[Any], *, workers: int = 1, scheduler
     try:
         if scheduler:
             _run_dask(fn, units, scheduler, done)
+        elif pool is not None:
+            _run_pool(fn, units, pool, done)
         elif workers <= 1 or len(units) == 1:
             for i, unit in enumerate(units):
                 done(i, fn(unit))
         else:
-            _run_pool(fn, units, min(workers, len(units)), done)
+            with local_pool(min(workers, len(units))) as own:
+                _run_pool(fn, units, own, done)
     finally:
         bar.close()
     return results

@@ -39,7 +39,7 @@ class RequestError(ValueError):
 
 # ---------------------------------------------------------------------------- the defaults
 DEFAULT_THICKNESS_NM = 1000.0
-DEFAULT_POLARISATION = "te"
+DEFAULT_POLARISATION = "unpolarised"
 #: "Y15/B15": Y15 printed over B15 (layers top first)
 LAYER_SEPARATOR = "/"
 #: molecular inks (exact thin film, cheap): 10-nm steps and 46 uniform incidence angles
@@ -61,16 +61,18 @@ class WaveSettings:
     grid: tuple[int, int, int] = (64, 64, 32)  # voxels (x, y, z)
     realizations: int = 4                      # random cells per wavelength
     azimuths: int = 2                          # incidence azimuths per realization
-    solver_tol: float = 1e-4                   # wave solver relative residual
+    solver_tol: float = 1e-3                   # wave solver relative residual (docs/wave_solver.md)
     tolerance: float = 0.01                    # tier choice: allowed error in Rbar, Tbar, diffuse
     seed: int = 1
     tier: str = "auto"
+    target_se: float | None = None             # add realizations until max SE(Rbar, Tbar) ≤ this
+    max_realizations: int = 64                 # … but never more than this
 
 
 #: accuracy presets of particle inks (wave settings and wavelength step); docs/tables.md has
 #: each preset's measured colour error against `fine` and its cost
 ACCURACY = {
-    "preview": (WaveSettings(grid=(48, 48, 24), realizations=2, azimuths=1, solver_tol=1e-3), 40.0),
+    "preview": (WaveSettings(grid=(48, 48, 24), realizations=2), 40.0),
     "default": (WaveSettings(), PARTICLE_WAVELENGTH_STEP_NM),
     "fine": (WaveSettings(grid=(96, 96, 48), realizations=8), 10.0),
 }
@@ -80,6 +82,7 @@ OPTION = {"thickness_nm": "--thickness", "wavelengths_nm": "--wavelengths", "sig
           "azimuths": "--azimuths", "dphi_count": "--dphi-count", "solver_tol": "--solver-tol",
           "tolerance": "--tolerance", "seed": "--seed", "tier": "--tier",
           "polarisation": "--polarisation", "accuracy": "--accuracy", "particles": "--particles",
+          "target_se": "--target-se", "max_realizations": "--max-realizations",
           "ink": "--ink"}
 MIN_GRID = (8, 8, 4)
 
@@ -370,6 +373,13 @@ def validate(req: TableRequest) -> None:
     if not (isinstance(w.tolerance, (int, float)) and math.isfinite(w.tolerance) and 0 < w.tolerance <= 1):
         raise RequestError(f"{OPTION['tolerance']} (allowed model error when choosing the tier) must lie in "
                            f"(0, 1], got {w.tolerance!r}")
+    if w.target_se is not None and not (isinstance(w.target_se, (int, float)) and math.isfinite(w.target_se)
+                                        and 0 < w.target_se < 1):
+        raise RequestError(f"{OPTION['target_se']} (wanted standard error of Rbar and Tbar) must lie in (0, 1), "
+                           f"got {w.target_se!r}")
+    if not isinstance(w.max_realizations, (int, np.integer)) or w.max_realizations < w.realizations:
+        raise RequestError(f"{OPTION['max_realizations']} must be an integer ≥ --realizations "
+                           f"({w.realizations}), got {w.max_realizations!r}")
     if not isinstance(w.seed, (int, np.integer)) or w.seed < 0:
         raise RequestError(f"{OPTION['seed']} must be an integer ≥ 0, got {w.seed!r}")
     if w.tier not in TIERS:

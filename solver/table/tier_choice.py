@@ -40,7 +40,7 @@ def _summaries(units: list[dict]) -> dict:
 
 def effective_medium_summaries(request: TableRequest, lambda_indices, sigma) -> dict:
     wl = np.asarray(request.grids.wavelengths_nm)[lambda_indices]
-    film = request_film(request, wl, np.concatenate([sigma, [np.pi / 2]]), polarisation="te")
+    film = request_film(request, wl, np.concatenate([sigma, [np.pi / 2]]))
     return {"Rbar": film.Rbar[:, :-1], "Tbar": film.Tbar[:, :-1], "diffuse": np.zeros((wl.size, sigma.size))}
 
 

@@ -1,15 +1,25 @@
 """Particle inks from the wave solver: the work units of a table build.
 
 Stage 1, one unit per realization: random cell → voxel fractions (reused for every λ, σ).
-Stage 2, one unit per (realization, λ): for every solved incidence σ and `azimuths` incidence
-azimuths, one prepared operator and one solve from above (and one from below when the layer is
-not up-down symmetric).  A unit returns small arrays (order amplitudes of the 00 orders, totals,
-the diffuse orders already spread onto the BRDF grid), so results travel cheaply between
-processes or Dask workers and are stored for resuming.
+Stage 2, one unit per (realization, λ): for every solved incidence σ and every sample (an
+incidence azimuth and a polarisation), one prepared operator and one solve from above (and one
+from below when the layer is not up-down symmetric).  A unit returns small arrays (the 00
+amplitudes, totals, the diffuse orders already spread onto the BRDF grid), so results travel
+cheaply between processes or Dask workers and are stored for resuming.
 
-Sampling: realization r uses seed SeedSequence([seed, r]); its incidence azimuths are a
-golden-ratio sequence over [0, π/2) (the square cell's symmetry), so successive samples put the
-discrete order directions at new angles.
+Sampling (docs/tables.md):
+- realization r uses seed SeedSequence([seed, r]); its incidence azimuths are a golden-ratio
+  sequence over [0, π/2) (the square cell's symmetry), so successive samples put the discrete
+  order directions at new angles;
+- unpolarised light is the mean of TE and TM (docs/design.md §1).  With an even number of
+  azimuths per realization, even azimuths are solved in TE and odd ones in TM: the same number
+  of solves as a TE table, both polarisations sampled equally in every realization (the
+  azimuth is itself a random sample of a statistically isotropic layer).  With an odd number,
+  every azimuth is solved in both.
+- the background slab's ε_b is the ink's nominal mean permittivity (the voxel fractions make
+  each realization's mean equal to it), also the TM face permittivity ε_f.
+- the scheme-exact energy identity (quadrature of ∫ Im ε |u|²) is evaluated on one solve per
+  unit; every other solve closes its energy from the true residual (solver.wave).
 """
 
 from __future__ import annotations
@@ -20,11 +30,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..geometry import LayerSpec, eps_grid, generate, voxelize
+from ..inks import molecular_eps
 from ..wave import Cell, prepare, solve_prepared
 from .orders_to_brdf import fold_dphi, spread_orders
 from .request import RequestError, TableRequest
 
 GOLDEN = 0.5 * (math.sqrt(5.0) - 1.0)
+TE, TM = 0, 1
 
 
 def realization_seed(request: TableRequest, realization: int) -> int:
@@ -35,6 +47,16 @@ def azimuths(request: TableRequest, realization: int) -> np.ndarray:
     """Incidence azimuths (rad) of one realization."""
     s = realization * request.wave.azimuths + np.arange(request.wave.azimuths)
     return 0.5 * np.pi * np.mod(s * GOLDEN, 1.0)
+
+
+def samples(request: TableRequest) -> tuple[tuple[int, int], ...]:
+    """(azimuth index, polarisation) of the solves of one realization at one (λ, σ)."""
+    count = request.wave.azimuths
+    if request.polarisation == "te":
+        return tuple((j, TE) for j in range(count))
+    if count % 2 == 0:
+        return tuple((j, TE if j % 2 == 0 else TM) for j in range(count))
+    return tuple((j, p) for j in range(count) for p in (TE, TM))
 
 
 def layer_spec(request: TableRequest) -> LayerSpec:
@@ -74,47 +96,55 @@ class SolveUnit:
 
 
 def solve_unit(unit: SolveUnit) -> dict:
-    """All solves of one realization at one wavelength → arrays indexed [σ, azimuth]."""
+    """All solves of one realization at one wavelength → arrays indexed [σ, sample]."""
     req, vox = unit.request, unit.voxels
     wl = req.grids.wavelengths_nm[unit.wavelength_index]
-    sig, phis = req.grids.solved_sigma_rad, azimuths(req, unit.realization)
+    sig, phis, todo = req.grids.solved_sigma_rad, azimuths(req, unit.realization), samples(req)
     below = needs_below(req)
     cell = Cell(eps_grid(vox, wl, req.materials), tuple(vox.period_nm), tuple(vox.z_range_nm))
+    eps_nominal = complex(molecular_eps(req.layer.ink, wl, req.materials))
     z_top, z_bottom = (float(z) for z in vox.z_range_nm)
     polar, dphi = np.asarray(req.grids.sigma_rad), req.grids.dphi_rad
-    shape = (sig.size, phis.size)
+    shape = (sig.size, len(todo))
     out = {k: np.zeros(shape) for k in ("Rbar", "Tbar", "A", "energy_error", "applications",
                                          "seconds", "Rbar_below")}
     out["alpha00"] = np.zeros(shape, complex)
     out["beta00"] = np.zeros(shape, complex)
     out["R"] = np.zeros(shape + (polar.size, dphi.size))
+    out["polarisation"] = np.array([p for _, p in todo])
+    out["energy_error_exact"] = np.zeros(1)
     kw = dict(tol=req.wave.solver_tol, method="born" if unit.method == "born" else "auto")
     if unit.method == "born":              # first order by design: not a convergence failure
         kw.update(maxiter=1, on_fail="ignore")
     k0 = 2.0 * np.pi / wl
     for i, s in enumerate(sig):
-        for j, phi in enumerate(phis):
+        for k, (j, pol) in enumerate(todo):
+            phi = phis[j]
             kx0, ky0 = k0 * np.sin(s) * np.cos(phi), k0 * np.sin(s) * np.sin(phi)
-            op = prepare(cell, wl, kx0, ky0, workers=unit.threads)
-            sides = (False, True) if below else (False,)
-            for from_below in sides:
-                res = solve_prepared(op, from_below, **kw)
-                out["applications"][i, j] += res.applications
-                out["seconds"][i, j] += res.seconds
+            op = prepare(cell, wl, kx0, ky0, eps_background=eps_nominal, polarisation=("te", "tm")[pol],
+                         workers=unit.threads)
+            exact = i == 0 and k == 0 and unit.method != "born"   # the sampled exact identity
+            for from_below in ((False, True) if below else (False,)):
+                res = solve_prepared(op, from_below, exact_energy=exact and not from_below, **kw)
+                out["applications"][i, k] += res.applications
+                out["seconds"][i, k] += res.seconds
                 if from_below:
-                    out["Rbar_below"][i, j] = res.R
+                    out["Rbar_below"][i, k] = res.R
                     continue
+                if exact:
+                    out["energy_error_exact"][0] = res.energy_error
                 kz = k0 * np.cos(s)
                 # re-reference the 00 amplitudes to the planes z = 0 and z = H (flat binder faces)
-                out["alpha00"][i, j] = res.reflected.amp(0, 0) * np.exp(2j * kz * z_top)
-                out["beta00"][i, j] = res.transmitted.amp(0, 0) * np.exp(
+                out["alpha00"][i, k] = res.reflected.amp(0, 0) * np.exp(2j * kz * z_top)
+                out["beta00"][i, k] = res.transmitted.amp(0, 0) * np.exp(
                     1j * kz * (z_top - z_bottom + req.thickness_nm))
-                out["Rbar"][i, j], out["Tbar"][i, j] = res.R, res.T
-                out["A"][i, j], out["energy_error"][i, j] = res.absorbed, res.energy_error
+                out["Rbar"][i, k], out["Tbar"][i, k] = res.R, res.T
+                out["A"][i, k], out["energy_error"][i, k] = res.absorbed, res.energy_error
                 refl = res.reflected
                 keep = refl.propagating & ~((refl.m == 0) & (refl.n == 0))
-                out["R"][i, j] = spread_orders(polar, dphi, refl.theta_rad[keep],
+                out["R"][i, k] = spread_orders(polar, dphi, refl.theta_rad[keep],
                                                fold_dphi(phi + np.pi, refl.phi_rad[keep]), refl.power[keep])
             if not below:
-                out["Rbar_below"][i, j] = out["Rbar"][i, j]
+                out["Rbar_below"][i, k] = out["Rbar"][i, k]
     return out
+

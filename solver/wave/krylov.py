@@ -11,9 +11,10 @@ from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
-from scipy.linalg import get_blas_funcs
+from .vecops import Basis, dot, norm
 
-Apply = Callable[[np.ndarray], np.ndarray]
+#: apply(x, out): A·x written into out (None: a new array), returned
+Apply = Callable[[np.ndarray, np.ndarray | None], np.ndarray]
 #: called after every iteration with (operator applications so far, relative residual)
 Callback = Callable[[int, float], None] | None
 
@@ -43,7 +44,9 @@ class ConvergenceWarning(RuntimeWarning):
 @dataclass(frozen=True, eq=False)
 class KrylovOutcome:
     """x: the solution; residuals: relative residual after each iteration (GMRES: its
-    recurrence estimate; others: explicit); true_residual: explicit relative residual of x."""
+    recurrence estimate; others: explicit); true_residual: explicit relative residual of x;
+    residual_vector: b − A·x (None for the Born series, whose last residual belongs to the
+    previous iterate)."""
 
     x: np.ndarray
     residuals: tuple[float, ...]
@@ -51,93 +54,72 @@ class KrylovOutcome:
     converged: bool
     true_residual: float
     method: str
+    residual_vector: np.ndarray | None = None
 
 
-#: Vector operations run on chunks of this many elements: OpenBLAS keeps level-1 routines on
-#: one thread below 10 000 elements.  Threaded dot/axpy were measured up to 1000× slower on a
-#: 2-core machine shared with other jobs (thread wake-up under contention); the work is memory
-#: bound, so one thread loses little.  Chunk sums are accumulated in complex128.
-_CHUNK = 8192
-
-
-def _dot(a: np.ndarray, b: np.ndarray) -> complex:
-    """⟨a, b⟩ = Σ conj(a)·b of two 1-D arrays."""
-    return sum((complex(np.vdot(a[i:i + _CHUNK], b[i:i + _CHUNK]))
-                for i in range(0, a.size, _CHUNK)), 0j)
-
-
-def _norm(v: np.ndarray) -> float:
-    return math.sqrt(max(_dot(v, v).real, 0.0))
-
-
-class _Basis:
-    """Krylov basis as a list of vectors, grown as the iteration proceeds (memory follows the
-    iterations taken).  Chunked level-1 BLAS (see _CHUNK) instead of a threaded gemv."""
-
-    def __init__(self, size: int, dtype: np.dtype):
-        self.size, self.dtype, self.vecs = size, np.dtype(dtype), []
-        self._axpy = get_blas_funcs("axpy", dtype=self.dtype)
-
-    def append(self, v: np.ndarray) -> None:
-        self.vecs.append(np.ascontiguousarray(v, dtype=self.dtype))
-
-    def __getitem__(self, j: int) -> np.ndarray:
-        return self.vecs[j]
-
-    def project(self, w: np.ndarray, n: int) -> np.ndarray:
-        """Coefficients ⟨v_i, w⟩ for the first n vectors (complex128)."""
-        return np.array([_dot(v, w) for v in self.vecs[:n]], dtype=complex)
-
-    def subtract(self, w: np.ndarray, coef: np.ndarray, n: int) -> None:
-        """w −= Σ_i coef_i v_i over the first n vectors (in place)."""
-        for c, v in zip(coef[:n], self.vecs[:n]):
-            for i in range(0, self.size, _CHUNK):   # in place on contiguous chunks of w
-                self._axpy(v[i:i + _CHUNK], w[i:i + _CHUNK], a=-c)
-
-
-def gmres(apply: Apply, b: np.ndarray, *, tol: float, maxiter: int, restart: int = 60,
+def gmres(scatter: Apply, b: np.ndarray, *, tol: float, maxiter: int, restart: int = 60,
           x0: np.ndarray | None = None, callback: Callback = None) -> KrylovOutcome:
-    """Restarted GMRES(restart), classical Gram–Schmidt with selective reorthogonalisation.
+    """Restarted GMRES(restart) for x − K·x = b, classical Gram–Schmidt with selective
+    reorthogonalisation.
 
-    The basis has the dtype of b (complex64 is enough for tol ≥ 1e-5); the Hessenberg matrix
-    and Givens rotations are complex128.  maxiter counts operator applications.
+    scatter(x, out) writes K·x into out.  The Arnoldi process runs on K (the Krylov spaces
+    of K and I − K coincide) and the Hessenberg matrix of I − K is Ĩ − H_K: orthogonalising
+    K·v instead of (I − K)·v avoids the cancellation of the identity part, which made the
+    reorthogonalisation pass run at nearly every iteration (measured on the reference case).
+    The basis (rows of one array, vecops.Basis) has the dtype of b (complex64 is enough for
+    tol ≥ 1e-5); the Hessenberg matrix and Givens rotations are complex128.  maxiter counts
+    operator applications.  x0: initial guess (e.g. the solution at a neighbouring
+    wavelength or incidence); the iteration starts from its best multiple (one application).
     """
     shape, dt = b.shape, b.dtype
     bv = b.ravel()
-    bnorm = _norm(bv) or 1.0
-    x = np.zeros_like(bv) if x0 is None else x0.ravel().astype(dt, copy=True)
+    bnorm = norm(bv) or 1.0
+
+    def residual(x: np.ndarray) -> np.ndarray:       # b − x + K·x, one application
+        kx = scatter(x.reshape(shape), None).ravel()
+        kx += bv
+        kx -= x
+        return kx
+
+    x = np.zeros_like(bv) if x0 is None else np.asarray(x0).ravel().astype(dt, copy=True)
     apps, history = 0, []
     if x0 is None:
         r = bv.copy()
-    else:
-        r = bv - apply(x.reshape(shape)).ravel()
+    else:   # start from the best multiple of x0: min ‖b − s·A·x0‖ (s = 0 if x0 is useless)
+        ax = x - scatter(x.reshape(shape), None).ravel()
         apps += 1
-    rel = _norm(r) / bnorm
+        axn = dot(ax, ax).real
+        s = dot(ax, bv) / axn if axn > 0 else 0.0
+        x *= s
+        r = bv - s * ax
+    rel = norm(r) / bnorm
     while rel > tol and maxiter - apps >= 2:   # a cycle: ≥ 1 iteration + the true residual
         m = min(restart, maxiter - apps - 1)
-        basis = _Basis(bv.size, dt)
+        basis = Basis(m + 1, bv.size, dt)
         hess = np.zeros((m + 1, m), dtype=complex)
         cs, sn = np.zeros(m, dtype=complex), np.zeros(m, dtype=complex)
         g = np.zeros(m + 1, dtype=complex)
-        beta = _norm(r)
+        beta = norm(r)
         g[0] = beta
-        basis.append(r / beta)
+        basis.append(r, 1.0 / beta)
         j_used = 0
         for j in range(m):
-            w = apply(basis[j].reshape(shape)).ravel()
+            w = basis.row(j + 1)                      # K·v_j goes straight into the next row
+            scatter(basis.row(j).reshape(shape), w.reshape(shape))
             apps += 1
-            norm_in = _norm(w)
             for _ in range(2):  # classical Gram–Schmidt, repeated when cancellation is severe
                 hcol = basis.project(w, j + 1)
                 basis.subtract(w, hcol, j + 1)
-                hess[:j + 1, j] += hcol
-                norm_out = _norm(w)
-                if norm_out > 0.7071 * norm_in:
+                hess[:j + 1, j] -= hcol               # H_A = Ĩ − H_K
+                norm_out = norm(w)
+                # ‖w_in‖² = ‖w_out‖² + ‖h‖² (orthonormal basis): repeat if ‖w_out‖ < ‖w_in‖/√2
+                if norm_out * norm_out > float(np.vdot(hcol, hcol).real):
                     break
-                norm_in = norm_out
-            hess[j + 1, j] = norm_out
-            if hess[j + 1, j] > 0 and j + 1 < m:
-                basis.append(w / hess[j + 1, j])
+            hess[j, j] += 1.0
+            hess[j + 1, j] = -norm_out
+            if norm_out > 0:
+                w *= 1.0 / norm_out
+            basis.n = j + 2
             for i in range(j):  # previous rotations: (x, y) → (c̄x + s̄y, −sx + cy)
                 t = np.conj(cs[i]) * hess[i, j] + np.conj(sn[i]) * hess[i + 1, j]
                 hess[i + 1, j] = -sn[i] * hess[i, j] + cs[i] * hess[i + 1, j]
@@ -153,18 +135,19 @@ def gmres(apply: Apply, b: np.ndarray, *, tol: float, maxiter: int, restart: int
             history.append(float(abs(g[j + 1])) / bnorm)
             if callback is not None:
                 callback(apps, history[-1])
-            if history[-1] <= tol or apps >= maxiter - 1 or hess[j, j] == 0:
+            if history[-1] <= tol or apps >= maxiter - 1 or norm_out == 0:
                 break
         y = np.linalg.solve(np.triu(hess[:j_used, :j_used]), g[:j_used])
         basis.subtract(x, -y, j_used)
         del basis
-        r = bv - apply(x.reshape(shape)).ravel()
+        r = residual(x)
         apps += 1
-        rel, prev = _norm(r) / bnorm, rel
+        rel, prev = norm(r) / bnorm, rel
         floor = history[-1] <= tol < rel and rel > 0.5 * prev   # estimate met, truth cannot
         if floor or rel > 0.99 * prev:                           # ... or stagnation
             break
-    return KrylovOutcome(x.reshape(shape), tuple(history), apps, rel <= tol, rel, "gmres")
+    return KrylovOutcome(x.reshape(shape), tuple(history), apps, rel <= tol, rel, "gmres",
+                         r.reshape(shape))
 
 
 def bicgstab(apply: Apply, b: np.ndarray, *, tol: float, maxiter: int,
@@ -172,46 +155,47 @@ def bicgstab(apply: Apply, b: np.ndarray, *, tol: float, maxiter: int,
     """BiCGStab (van der Vorst); two applications per iteration, explicit residual each step."""
     shape = b.shape
     bv = b.ravel()
-    bnorm = _norm(bv) or 1.0
+    bnorm = norm(bv) or 1.0
     x = np.zeros_like(bv) if x0 is None else x0.ravel().astype(bv.dtype, copy=True)
     apps, history = 0, []
-    r = bv.copy() if x0 is None else bv - apply(x.reshape(shape)).ravel()
+    r = bv.copy() if x0 is None else bv - apply(x.reshape(shape), None).ravel()
     apps += 0 if x0 is None else 1
     rhat = r.copy()
     rho = alpha = omega = 1.0 + 0j
     v = np.zeros_like(bv)
     p = np.zeros_like(bv)
-    rel = _norm(r) / bnorm
+    rel = norm(r) / bnorm
     while rel > tol and apps + 3 <= maxiter:   # 2 per iteration + the final true residual
-        rho_new = _dot(rhat, r)
+        rho_new = dot(rhat, r)
         if abs(rho_new) < 1e-30 * bnorm ** 2:  # breakdown: restart the shadow residual
             rhat = r.copy()
-            rho_new = _dot(rhat, r)
+            rho_new = dot(rhat, r)
             p[:] = 0
             v[:] = 0
             rho = alpha = omega = 1.0 + 0j
         beta = (rho_new / rho) * (alpha / omega)
         rho = rho_new
         p = r + beta * (p - omega * v)
-        v = apply(p.reshape(shape)).ravel()
-        alpha = rho / _dot(rhat, v)
+        v = apply(p.reshape(shape), None).ravel()
+        alpha = rho / dot(rhat, v)
         s = r - alpha * v
-        t = apply(s.reshape(shape)).ravel()
+        t = apply(s.reshape(shape), None).ravel()
         apps += 2
-        tt = _dot(t, t).real
-        omega = _dot(t, s) / tt if tt > 0 else 0.0
+        tt = dot(t, t).real
+        omega = dot(t, s) / tt if tt > 0 else 0.0
         x += alpha * p + omega * s
         r = s - omega * t
-        rel = _norm(r) / bnorm
+        rel = norm(r) / bnorm
         history.append(rel)
         if callback is not None:
             callback(apps, rel)
         if not math.isfinite(rel):
             break
-    r = bv - apply(x.reshape(shape)).ravel()
+    r = bv - apply(x.reshape(shape), None).ravel()
     apps += 1
-    rel = _norm(r) / bnorm
-    return KrylovOutcome(x.reshape(shape), tuple(history), apps, rel <= tol, rel, "bicgstab")
+    rel = norm(r) / bnorm
+    return KrylovOutcome(x.reshape(shape), tuple(history), apps, rel <= tol, rel, "bicgstab",
+                         r.reshape(shape))
 
 
 def born(scatter: Apply, b: np.ndarray, *, tol: float, maxiter: int,
@@ -225,14 +209,14 @@ def born(scatter: Apply, b: np.ndarray, *, tol: float, maxiter: int,
     exceeds 10× its minimum (the series diverges: spectral radius of S ≥ 1), with the measured
     growth factor per iteration.
     """
-    bnorm = _norm(b.ravel()) or 1.0
+    bnorm = norm(b.ravel()) or 1.0
     x = b.copy() if x0 is None else x0.astype(b.dtype, copy=True)
     history: list[float] = []
     apps, growth_run = 0, 0
     while apps < maxiter:
-        x_new = b + scatter(x)
+        x_new = b + scatter(x, None)
         apps += 1
-        rel = _norm((x_new - x).ravel()) / bnorm
+        rel = norm((x_new - x).ravel()) / bnorm
         x = x_new
         history.append(rel)
         if callback is not None:

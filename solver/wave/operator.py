@@ -1,72 +1,82 @@
-"""The discretised Lippmann–Schwinger operator of one cell, prepared once per (λ, Bloch vector).
+"""The discretised Lippmann–Schwinger operator of one cell, prepared in two parts.
 
 Field u = e^{i(kx0·x + ky0·y)}·w(x, y, z) with w periodic; unknowns: w at the lateral voxel
 centres × Legendre moments in every z-cell (shape (nb, nx, ny, nz); nb = z_order + 1; moment
 0 is the cell average).  Lateral: pseudo-spectral (DFT, exact Bloch harmonics
 kx = kx0 + 2πm/Lx, ky = ky0 + 2πn/Ly).  z: Galerkin with the exact layered-background Green's
-function (kernel1d.py), applied by FFT along z (Toeplitz + Hankel).
+function (kernel1d.py), applied by FFT along z in its reduced form (zkernels.py).
 
     w − G·(V·w) = w_b,      V = k0²(ε − ε_b)   (1/nm²),   w_b = background (Airy) field.
 
-Everything here is shared by incidence from above and from below with the same (kx0, ky0).
+`Background` (prepare_background) is everything that depends on (λ, Bloch vector, ε_b, grid,
+cell size, half-spaces, polarisation) only: one preparation serves every realization of a
+layer when the caller fixes ε_b.  `LayerOperator` (prepare, with_contrast) adds one cell's
+contrast.  Both serve incidence from above and from below with the same (kx0, ky0).
 """
 from __future__ import annotations
 
 import math
-import os
 from dataclasses import dataclass
 
 import numpy as np
 import scipy.fft as sfft
 
+from .fftback import DEFAULT_FFT, FFT, aligned_empty, default_workers, get_fft
 from .kernel1d import (SlabGreen, circulant_blocks, face_profiles, slab_green,
                        vertical_wavenumber)
 from .types import Cell
+from .zkernels import ZKernels, ZWork, apply_z, z_kernels
 
 #: default minimum Im ε_b of the background slab (fictitious loss that keeps the guided-mode
 #: poles of a lossless film off the real axis; the contrast carries −i·δ back).  See docs.
 DEFAULT_MIN_LOSS = 0.01
+POLARISATIONS = ("te", "tm")
 
-
-def default_workers() -> int:
-    """Threads for scipy.fft: the machine's cores, at most 8."""
-    return max(1, min(os.cpu_count() or 1, 8))
+__all__ = ["Background", "LayerOperator", "prepare_background", "prepare", "with_contrast",
+           "choose_background", "apply_system", "apply_scattering", "apply_green", "Workspace",
+           "default_workers", "DEFAULT_MIN_LOSS", "POLARISATIONS"]
 
 
 @dataclass(frozen=True, eq=False)
-class LayerOperator:
-    """Everything that depends on (cell, λ, kx0, ky0) but not on the side of incidence.
+class Background:
+    """The layered background of one (λ, Bloch vector): Green's function kernels, face profiles.
 
-    Arrays of shape (nx, ny) are per lateral harmonic in FFT order; order indices m, n.
-    contrast = k0²(ε − ε_b) in 1/nm², shape (nx, ny, nz); toe_spec, han_spec: FFTs (length
-    2nz) of the circulant kernels, (nb, nb, nx, ny, 2nz); ptop, pbot: moments of the face
-    profiles (kernel1d.face_profiles), (nb, nx, ny, nz).
+    shape (nx, ny, nz); period_nm (Lx, Ly); thickness_nm H; eps_above / eps_below: the
+    half-spaces; eps_background: ε_b of the slab as used (Im raised to min_loss);
+    eps_nominal: ε_b as asked (before min_loss); polarisation 'te' | 'tm'; eps_face: ε_f of the
+    TM face conditions (None for TE).  Arrays of shape (nx, ny) are per lateral harmonic in FFT
+    order (order indices m, n).  zk: reduced z-kernels; ptop, pbot: moments of the face
+    profiles (kernel1d.face_profiles), (nb, nx, ny, nz) in dtype; fft: the FFT backend
+    (fftback.py; its normalisation is folded into zk).
     """
 
-    cell: Cell
+    shape: tuple[int, int, int]
+    period_nm: tuple[float, float]
+    thickness_nm: float
+    eps_above: float
+    eps_below: float
     wavelength_nm: float
     kx0: float
     ky0: float
     eps_background: complex
+    eps_nominal: complex
+    polarisation: str
+    eps_face: complex | None
     m: np.ndarray
     n: np.ndarray
     kx: np.ndarray
     ky: np.ndarray
     green: SlabGreen
-    contrast: np.ndarray
-    toe_spec: np.ndarray
-    han_spec: np.ndarray
+    zk: ZKernels
     ptop: np.ndarray
     pbot: np.ndarray
+    dtype: np.dtype
     workers: int
+    fft: FFT
 
     @property
     def k0(self) -> float:
         return 2 * math.pi / self.wavelength_nm
-
-    @property
-    def shape(self) -> tuple[int, int, int]:
-        return self.cell.shape
 
     @property
     def nb(self) -> int:
@@ -78,15 +88,34 @@ class LayerOperator:
         return (self.nb,) + self.shape
 
     @property
-    def dtype(self) -> np.dtype:
-        return self.contrast.dtype
-
-    @property
     def lateral_phase(self) -> np.ndarray:
         """e^{−iπ(m/nx + n/ny)}: maps DFT coefficients of node values (voxel centres) to
         Fourier coefficients referenced to x = y = 0."""
         nx, ny, _ = self.shape
         return np.exp(-1j * math.pi * (self.m / nx + self.n / ny))
+
+
+@dataclass(frozen=True, eq=False)
+class LayerOperator:
+    """A Background plus one cell's contrast = k0²(ε − ε_b) in 1/nm², shape (nx, ny, nz)."""
+
+    background: Background
+    cell: Cell
+    contrast: np.ndarray
+
+    def __getattr__(self, name: str):
+        # the background's fields (green, zk, ptop, pbot, kx, ky, m, n, k0, nb, …) read through
+        if name in ("background", "cell", "contrast"):
+            raise AttributeError(name)
+        return getattr(self.background, name)
+
+    @property
+    def shape(self) -> tuple[int, int, int]:
+        return self.cell.shape
+
+    @property
+    def dtype(self) -> np.dtype:
+        return self.contrast.dtype
 
 
 def choose_background(eps: np.ndarray, min_loss: float) -> complex:
@@ -95,29 +124,59 @@ def choose_background(eps: np.ndarray, min_loss: float) -> complex:
     return complex(mean.real, max(mean.imag, float(min_loss)))
 
 
-def prepare(cell: Cell, wavelength_nm: float, kx0: float, ky0: float, *,
-            eps_background: complex | None = None, min_loss: float = DEFAULT_MIN_LOSS,
-            z_order: int = 1, dtype: type = np.complex64,
-            workers: int | None = None) -> LayerOperator:
-    """Build the operator for one cell, wavelength (nm) and Bloch vector (kx0, ky0) in 1/nm.
-
-    eps_background: ε_b of the background slab (default: volume mean of ε); its imaginary part
-    is raised to min_loss if smaller.  z_order: polynomial degree per z-cell (1: O(h⁴) in z
-    where ε is piecewise constant on z-cells; 0: cell averages only, O(h²)).  dtype: complex64
-    (default) or complex128 for the operator arrays and Krylov vectors (kernels are computed
-    in complex128).  workers: scipy.fft threads (default: all cores, at most 8).
-    """
+def _check_common(wavelength_nm: float, min_loss: float, z_order: int, polarisation: str,
+                  dtype) -> np.dtype:
     if not (wavelength_nm > 0 and math.isfinite(wavelength_nm)):
         raise ValueError(f"wavelength_nm must be positive, got {wavelength_nm}")
     if min_loss <= 0:
         raise ValueError("min_loss must be positive (it keeps the background's poles complex)")
     if z_order not in (0, 1):
         raise ValueError("z_order must be 0 or 1")
-    eps = np.asarray(cell.eps, dtype=complex)
-    nx, ny, nz = eps.shape
-    lx, ly = (float(p) for p in cell.period_nm)
-    eb = choose_background(eps, min_loss) if eps_background is None else \
-        complex(complex(eps_background).real, max(complex(eps_background).imag, min_loss))
+    if polarisation not in POLARISATIONS:
+        raise ValueError(f"polarisation must be 'te' or 'tm', got {polarisation!r}")
+    dt = np.dtype(dtype)
+    if dt not in (np.dtype(np.complex64), np.dtype(np.complex128)):
+        raise ValueError(f"dtype must be complex64 or complex128, got {dt}")
+    return dt
+
+
+def prepare_background(shape: tuple[int, int, int], period_nm: tuple[float, float],
+                       thickness_nm: float, wavelength_nm: float, kx0: float, ky0: float,
+                       eps_background: complex, *, eps_above: float = 1.0,
+                       eps_below: float = 1.0, polarisation: str = "te",
+                       eps_face: complex | None = None, min_loss: float = DEFAULT_MIN_LOSS,
+                       z_order: int = 1, dtype: type = np.complex64,
+                       workers: int | None = None, fft: str = DEFAULT_FFT) -> Background:
+    """The background of a grid `shape` = (nx, ny, nz) over a cell of `period_nm` (Lx, Ly) and
+    `thickness_nm`, at `wavelength_nm` and Bloch vector (kx0, ky0) in 1/nm.
+
+    eps_background: ε_b of the slab; its imaginary part is raised to min_loss if smaller.
+    eps_above / eps_below: real, positive half-space permittivities.  polarisation: 'te' (the
+    scalar model is exact TE at the faces) or 'tm' (u and ∂_z u/ε continuous at the faces, with
+    ε_f = eps_face for the slab, default: eps_background as given, without min_loss).
+    z_order: polynomial degree per z-cell (1: O(h⁴) in z where ε is piecewise constant on
+    z-cells; 0: cell averages only, O(h²)).  dtype: complex64 (default) or complex128 for the
+    operator arrays and Krylov vectors (kernels are computed in complex128).  workers: FFT
+    threads (default: all cores, at most 8; one per process is best in a process pool).
+    fft: 'scipy' (default), 'fftw' (pyFFTW, optional) or 'auto' (fftback.py).
+    """
+    dt = _check_common(wavelength_nm, min_loss, z_order, polarisation, dtype)
+    nx, ny, nz = (int(s) for s in shape)
+    if min(nx, ny, nz) < 1:
+        raise ValueError(f"shape must be three positive integers, got {shape}")
+    lx, ly = (float(p) for p in period_nm)
+    if not (lx > 0 and ly > 0 and thickness_nm > 0):
+        raise ValueError("period_nm and thickness_nm must be positive")
+    ea, ec = float(complex(eps_above).real), float(complex(eps_below).real)
+    if not (ea > 0 and ec > 0) or complex(eps_above).imag or complex(eps_below).imag:
+        raise ValueError("eps_above and eps_below must be real and positive")
+    nominal = complex(eps_background)
+    eb = complex(nominal.real, max(nominal.imag, min_loss))
+    ef = None
+    if polarisation == "tm":
+        ef = nominal if eps_face is None else complex(eps_face)
+        if not (ef.real > 0 and ef.imag >= 0 and math.isfinite(abs(ef))):
+            raise ValueError(f"eps_face must have Re > 0 and Im ≥ 0, got {ef}")
     k0 = 2 * math.pi / wavelength_nm
     m = np.rint(sfft.fftfreq(nx, 1.0 / nx)).astype(int)[:, None] * np.ones((1, ny), int)
     n = np.rint(sfft.fftfreq(ny, 1.0 / ny)).astype(int)[None, :] * np.ones((nx, 1), int)
@@ -126,21 +185,109 @@ def prepare(cell: Cell, wavelength_nm: float, kx0: float, ky0: float, *,
     kt2 = kx * kx + ky * ky
     k2 = k0 * k0
     kap = vertical_wavenumber(k2 * eb, kt2)
-    ka = vertical_wavenumber(k2 * complex(cell.eps_above).real, kt2)
-    kc = vertical_wavenumber(k2 * complex(cell.eps_below).real, kt2)
-    sg = slab_green(kap, ka, kc, cell.thickness_nm, nz, z_order + 1)
+    ka = vertical_wavenumber(k2 * ea, kt2)
+    kc = vertical_wavenumber(k2 * ec, kt2)
+    ratios = (None, None) if ef is None else (ef / ea, ef / ec)
+    sg = slab_green(kap, ka, kc, float(thickness_nm), nz, z_order + 1,
+                    face_ratio_above=ratios[0], face_ratio_below=ratios[1])
     w = default_workers() if workers is None else int(workers)
-    toe_spec, han_spec = kernel_spectra(sg, None, dtype, w)
+    backend = get_fft(fft, w)
+    zk = z_kernels(sg, dt, lambda a: sfft.fft(a, axis=-1, workers=w, overwrite_x=True),
+                   normalised=backend.normalised)
     ptop, pbot = face_profiles(sg)
-    contrast = (k2 * (eps - eb)).astype(dtype)
-    return LayerOperator(cell, float(wavelength_nm), float(kx0), float(ky0), eb, m, n, kx, ky, sg,
-                         contrast, toe_spec, han_spec, ptop.astype(dtype), pbot.astype(dtype), w)
+    return Background((nx, ny, nz), (lx, ly), float(thickness_nm), ea, ec,
+                      float(wavelength_nm), float(kx0), float(ky0), eb, nominal, polarisation, ef,
+                      m, n, kx, ky, sg, zk, ptop.astype(dt), pbot.astype(dt), dt, w, backend)
+
+
+def with_contrast(bg: Background, cell: Cell) -> LayerOperator:
+    """The operator of `cell` on the prepared background (ε_b fixed by the background)."""
+    if cell.shape != bg.shape:
+        raise ValueError(f"cell shape {cell.shape} does not match the background's {bg.shape}")
+    if not (np.allclose(cell.period_nm, bg.period_nm, rtol=1e-12)
+            and math.isclose(cell.thickness_nm, bg.thickness_nm, rel_tol=1e-12)):
+        raise ValueError("cell period_nm / thickness do not match the background's; prepare a "
+                         "background for this cell")
+    if (complex(cell.eps_above).real, complex(cell.eps_below).real) != (bg.eps_above,
+                                                                       bg.eps_below):
+        raise ValueError("cell eps_above / eps_below do not match the background's")
+    eps = np.asarray(cell.eps)
+    contrast = np.empty(eps.shape, dtype=bg.dtype)
+    np.multiply(bg.k0 ** 2, eps - bg.eps_background, out=contrast)
+    return LayerOperator(bg, cell, contrast)
+
+
+def prepare(cell: Cell, wavelength_nm: float, kx0: float, ky0: float, *,
+            eps_background: complex | None = None, min_loss: float = DEFAULT_MIN_LOSS,
+            z_order: int = 1, dtype: type = np.complex64, workers: int | None = None,
+            polarisation: str = "te", eps_face: complex | None = None,
+            background: Background | None = None, fft: str = DEFAULT_FFT) -> LayerOperator:
+    """Build the operator for one cell, wavelength (nm) and Bloch vector (kx0, ky0) in 1/nm.
+
+    eps_background: ε_b of the background slab (default: volume mean of ε); its imaginary part
+    is raised to min_loss if smaller.  polarisation, eps_face, z_order, dtype, workers, fft: see
+    prepare_background.  background: a prepared Background to reuse (then ε_b, polarisation,
+    z_order, dtype and workers are the background's, and the other arguments must not
+    contradict it).
+    """
+    if background is not None:
+        if (background.wavelength_nm, background.kx0, background.ky0) != (
+                float(wavelength_nm), float(kx0), float(ky0)):
+            raise ValueError("background was prepared for another wavelength / Bloch vector")
+        return with_contrast(background, cell)
+    eps = np.asarray(cell.eps)
+    nominal = complex(np.mean(eps)) if eps_background is None else complex(eps_background)
+    bg = prepare_background(cell.shape, cell.period_nm, cell.thickness_nm, wavelength_nm, kx0,
+                            ky0, nominal, eps_above=complex(cell.eps_above).real,
+                            eps_below=complex(cell.eps_below).real, polarisation=polarisation,
+                            eps_face=eps_face, min_loss=min_loss, z_order=z_order, dtype=dtype,
+                            workers=workers, fft=fft)
+    return with_contrast(bg, cell)
+
+
+class Workspace:
+    """Scratch arrays of one solve, reused by every operator application (one per thread)."""
+
+    def __init__(self, op: LayerOperator | Background):
+        nx, ny, nz = op.shape
+        self.f = aligned_empty(op.unknown_shape, op.dtype)
+        self.z = ZWork((nx, ny), nz, op.dtype)
+
+
+def apply_green(op: LayerOperator, f: np.ndarray, ws: Workspace | None = None) -> np.ndarray:
+    """Galerkin moments of G·f for source moments f (nb, nx, ny, nz) at the nodes.  f is
+    overwritten: it holds the result, which is returned."""
+    ws = Workspace(op) if ws is None else ws
+    fft = op.fft
+    fh = fft.lateral(f)
+    apply_z(op.zk, fh, ws.z, fft.z, lambda a: fft.z(a, inverse=True))
+    return fft.lateral(fh, inverse=True)
+
+
+def apply_scattering(op: LayerOperator, w: np.ndarray, ws: Workspace | None = None,
+                     out: np.ndarray | None = None) -> np.ndarray:
+    """G V·w (the Born-series map without the source), into out or a new array."""
+    if out is None:
+        out = aligned_empty(w.shape, op.dtype)
+    g = apply_green(op, np.multiply(op.contrast, w, out=out), ws)
+    if g.ctypes.data != out.ctypes.data:          # the FFTs transform in place (fftback)
+        np.copyto(out, g)
+    return out
+
+
+def apply_system(op: LayerOperator, w: np.ndarray, ws: Workspace | None = None,
+                 out: np.ndarray | None = None) -> np.ndarray:
+    """(I − G V)·w: one operator application (into out, or a new array)."""
+    ws = Workspace(op) if ws is None else ws
+    g = apply_green(op, np.multiply(op.contrast, w, out=ws.f), ws)
+    return np.subtract(w, g, out=out)
 
 
 def kernel_spectra(sg: SlabGreen, offset_nm: float | None, dtype: type, workers: int
                    ) -> tuple[np.ndarray, np.ndarray]:
-    """FFTs (length 2nz) of the circulant kernels, shape (P, nb, nx, ny, 2nz), built one block at
-    a time in complex128 and stored in dtype."""
+    """FFTs (length 2nz) of the unreduced circulant kernels (kernel1d.circulant_blocks),
+    shape (P, nb, nx, ny, 2nz), built one block at a time in complex128 and stored in dtype.
+    Used for the field at points inside the z-cells (energy.py)."""
     npt = sg.nb if offset_nm is None else 1
     shape = (npt, sg.nb) + sg.kappa.shape + (2 * sg.nz,)
     toe_spec, han_spec = np.empty(shape, dtype=dtype), np.empty(shape, dtype=dtype)
@@ -150,15 +297,12 @@ def kernel_spectra(sg: SlabGreen, offset_nm: float | None, dtype: type, workers:
     return toe_spec, han_spec
 
 
-def convolve_z(op: LayerOperator, fhat: np.ndarray, toe_spec: np.ndarray,
+def convolve_z(workers: int, fhat: np.ndarray, toe_spec: np.ndarray,
                han_spec: np.ndarray) -> np.ndarray:
-    """Apply Toeplitz+Hankel z-kernels (P, nb, ..., 2nz) to lateral-DFT moments (nb, ..., nz).
-
-    Circular convolution for the Toeplitz part, T̂[q]·X[q]; the Hankel part is a correlation,
-    Ĥ[q]·X[−q mod 2nz], taken from a reversed view of X (no copy).
-    """
+    """Apply unreduced Toeplitz+Hankel z-kernels (P, nb, ..., 2nz) to lateral-DFT moments
+    (nb, ..., nz): circular convolution T̂[q]·X[q] plus the Hankel correlation Ĥ[q]·X[−q]."""
     nz = fhat.shape[-1]
-    xs = sfft.fft(fhat, n=2 * nz, axis=-1, workers=op.workers)
+    xs = sfft.fft(fhat, n=2 * nz, axis=-1, workers=workers)
     xrev = xs[..., :0:-1]                       # X[−q] for q = 1 … 2nz−1
     npt, nb = toe_spec.shape[:2]
     ys = np.empty((npt,) + xs.shape[1:], dtype=np.result_type(xs, toe_spec))
@@ -174,21 +318,4 @@ def convolve_z(op: LayerOperator, fhat: np.ndarray, toe_spec: np.ndarray,
             np.multiply(han_spec[p, q, ..., 1:], xrev[q], out=tmp[..., 1:])
             tmp[..., 0] = han_spec[p, q, ..., 0] * xs[q, ..., 0]
             acc += tmp
-    return sfft.ifft(ys, axis=-1, workers=op.workers, overwrite_x=True)[..., :nz]
-
-
-def apply_green(op: LayerOperator, f: np.ndarray) -> np.ndarray:
-    """Galerkin moments of G·f for a source f with moments (nb, nx, ny, nz) at the nodes."""
-    fh = sfft.fft2(f, axes=(1, 2), workers=op.workers)
-    y = convolve_z(op, fh, op.toe_spec, op.han_spec)
-    return sfft.ifft2(y, axes=(1, 2), workers=op.workers, overwrite_x=True)
-
-
-def apply_system(op: LayerOperator, w: np.ndarray) -> np.ndarray:
-    """(I − G V)·w: one operator application."""
-    return w - apply_green(op, op.contrast * w)
-
-
-def apply_scattering(op: LayerOperator, w: np.ndarray) -> np.ndarray:
-    """G V·w (the Born-series map without the source)."""
-    return apply_green(op, op.contrast * w)
+    return sfft.ifft(ys, axis=-1, workers=workers, overwrite_x=True)[..., :nz]

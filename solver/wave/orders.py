@@ -23,7 +23,8 @@ class OrderSet:
 
     kx, ky: in-plane wavevector (1/nm); kz: normal component in the exit medium, Im kz ≥ 0
     (0 exactly at a Wood anomaly); amplitude: complex order amplitude on the exit face;
-    power: (kz/kz_inc)·|amplitude|² for propagating orders, 0 for evanescent ones;
+    power: (kz/kz_inc)·|amplitude|² for propagating orders (TM: times ε_in/ε_exit), 0 for
+    evanescent ones;
     theta_rad: angle of the outgoing direction to the outward normal of the exit face (π/2 for
     evanescent orders, whose direction is undefined: use the mask); phi_rad: atan2(ky, kx).
     """
@@ -68,10 +69,13 @@ def face_amplitudes(op: LayerOperator, f: np.ndarray) -> tuple[np.ndarray, np.nd
     return top, bot
 
 
-def _order_set(op: LayerOperator, amp: np.ndarray, kz: np.ndarray, kz_inc: float) -> OrderSet:
+def _order_set(op: LayerOperator, amp: np.ndarray, kz: np.ndarray, kz_inc: float,
+               weight: float) -> OrderSet:
     prop = (kz.imag == 0) & (kz.real >= 0)
     kzr = np.where(prop, kz.real, 0.0)
     power = np.where(prop, kzr / kz_inc * np.abs(amp) ** 2, 0.0)
+    if weight != 1.0:
+        power *= weight
     kt = np.hypot(op.kx, op.ky)
     theta = np.where(prop, np.arctan2(kt, kzr), math.pi / 2)
     phi = np.arctan2(op.ky, op.kx)
@@ -84,7 +88,8 @@ def diffraction_orders(op: LayerOperator, f: np.ndarray, from_below: bool
     """(reflected, transmitted, kz_inc) for incidence from above (below).
 
     Reflected orders leave through the face of entry, transmitted through the other face;
-    the 00 orders include the background's Airy reflection/transmission.
+    the 00 orders include the background's Airy reflection/transmission.  TM powers carry
+    ε_in/ε_exit (the flux of a TM wave is ∝ Re(k_z/ε)·|u|²).
     """
     top, bot = face_amplitudes(op, f)
     _, refl_b, trans_b = background_amplitudes(op.green, from_below)
@@ -96,4 +101,8 @@ def diffraction_orders(op: LayerOperator, f: np.ndarray, from_below: bool
     refl[0, 0] += refl_b[0, 0]
     trans[0, 0] += trans_b[0, 0]
     kz_inc = float(k_in[0, 0].real)
-    return (_order_set(op, refl, k_in, kz_inc), _order_set(op, trans, k_out, kz_inc), kz_inc)
+    eps_in, eps_out = (op.eps_below, op.eps_above) if from_below else (op.eps_above,
+                                                                       op.eps_below)
+    weight = eps_in / eps_out if op.polarisation == "tm" else 1.0
+    return (_order_set(op, refl, k_in, kz_inc, 1.0), _order_set(op, trans, k_out, kz_inc, weight),
+            kz_inc)

@@ -8,18 +8,36 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .energy import absorption
+from .energy import absorption, closure, midpoint_absorption
+from .fftback import DEFAULT_FFT
 from .kernel1d import background_amplitudes
 from .krylov import (Callback, ConvergenceError, ConvergenceWarning, KrylovOutcome,
                      WaveSolverError, bicgstab, born, gmres)
-from .operator import (DEFAULT_MIN_LOSS, LayerOperator, apply_scattering, apply_system,
-                       prepare)
+from .operator import (DEFAULT_MIN_LOSS, Background, LayerOperator, Workspace,
+                       apply_scattering, apply_system, prepare)
 from .orders import OrderSet, diffraction_orders
 from .types import Cell, Incidence, bloch_vector
+from .vecops import one_blas_thread
 
 METHODS = ("auto", "gmres", "bicgstab", "born")
 #: upper bound on the memory of the GMRES basis (bytes); the restart length adapts to it.
 GMRES_BASIS_BYTES = 1.0e9
+#: default bound on |R + T + A − 1| (and on R, T, A leaving [0, 1]) above which a solve warns,
+#: whatever its tolerance: 1e-3 is the resolution the tables need (docs/wave_solver.md).
+ENERGY_BOUND = 1e-3
+#: default relative residual: on the reference geometry (64×64×32; k = 0, 0.2, 1.1; σ 25°,
+#: 80°) tol 1e-3 leaves |ΔR|, |ΔT|, |ΔR_spec|, |ΔT_coh| ≤ 8e-5 and Σ|ΔP| over the diffuse orders
+#: ≤ 2.2e-4 against tol 1e-6, far below the discretisation error (5.6e-3), for 10–26 % fewer
+#: applications than tol 1e-4 (python -m benchmarks.bench_wave, "tolerance curve").
+DEFAULT_TOL = 1e-3
+
+
+class EnergyWarning(RuntimeWarning):
+    """The energy closure R + T + A − 1 (or R, T, A outside [0, 1]) exceeds the bound."""
+
+
+class EnergyClosureError(WaveSolverError):
+    """As EnergyWarning, raised when on_fail='raise'."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -29,11 +47,15 @@ class DiffractionResult:
     reflected: orders leaving through the face of entry (above: up, referenced to z_top;
     below: down, referenced to z_bottom); transmitted: through the other face.
     R, T: totals over propagating orders, 00 included; R_spec, T_coh: the 00 orders alone.
-    absorbed: A from the scheme-exact ∫ Im ε |u|² (energy.py); absorbed_midpoint: the plain
-    cell-average sum; energy_error = R + T + absorbed − 1.
-    residuals: relative residual after every iteration; residual: final explicit residual.
-    kz_incident: k_z of the incident wave in its medium (1/nm), the power normalisation.
-    field: total field u (with its Bloch phase) at the voxel centres as z-cell averages, if asked.
+    absorbed: the scheme's A; energy_error = R + T + absorbed − 1; energy_check: how A was
+    obtained: 'residual' (Green's identity, A = 1 − R − T + E with E from the true residual:
+    one inner product) or 'quadrature' (∫ Im ε |u|² by quadrature, independent of R and T;
+    exact_energy=True, and always for the Born series).  absorbed_midpoint: the plain
+    cell-average sum.  residuals: relative residual after every iteration; residual: final
+    explicit residual.  kz_incident: k_z of the incident wave in its medium (1/nm), the power
+    normalisation.  field: total field u (with its Bloch phase) at the voxel centres as z-cell
+    averages, if asked.  solution: the solved moments w (nb, nx, ny, nz), the warm start x0
+    for a neighbouring solve.  polarisation: 'te' or 'tm'.
     """
 
     wavelength_nm: float
@@ -58,6 +80,9 @@ class DiffractionResult:
     eps_background: complex
     kz_incident: float
     field: np.ndarray | None = None
+    solution: np.ndarray | None = None
+    polarisation: str = "te"
+    energy_check: str = "residual"
 
 
 def _gmres_restart(b: np.ndarray) -> int:
@@ -67,32 +92,53 @@ def _gmres_restart(b: np.ndarray) -> int:
 
 
 def _run(op: LayerOperator, b: np.ndarray, method: str, tol: float, maxiter: int,
-         restart: int | None, callback: Callback) -> KrylovOutcome:
+         restart: int | None, x0: np.ndarray | None, callback: Callback) -> KrylovOutcome:
     if method == "auto":  # GMRES unless its basis would not fit in memory (docs/wave_solver.md)
         method = "gmres" if (restart or _gmres_restart(b)) >= 10 else "bicgstab"
-    kw = dict(tol=tol, maxiter=maxiter, callback=callback)
-    if method == "gmres":
-        m = max(1, restart or _gmres_restart(b))
-        return gmres(lambda x: apply_system(op, x), b, restart=m, **kw)
-    if method == "bicgstab":
-        return bicgstab(lambda x: apply_system(op, x), b, **kw)
-    return born(lambda x: apply_scattering(op, x), b, **kw)
+    ws = Workspace(op)
+    kw = dict(tol=tol, maxiter=maxiter, callback=callback, x0=x0)
+    with one_blas_thread():
+        if method == "gmres":
+            m = max(1, restart or _gmres_restart(b))
+            return gmres(lambda x, out: apply_scattering(op, x, ws, out), b, restart=m, **kw)
+        if method == "bicgstab":
+            return bicgstab(lambda x, out: apply_system(op, x, ws, out), b, **kw)
+        return born(lambda x, out: apply_scattering(op, x, ws, out), b, **kw)
 
 
-def solve_prepared(op: LayerOperator, from_below: bool = False, *, tol: float = 1e-4,
+def _check_energy(res: DiffractionResult, bound: float) -> str | None:
+    """Why the energy balance of `res` is implausible, or None."""
+    e = res.energy_error
+    problems = []
+    if abs(e) > bound:
+        problems.append(f"energy closure R+T+A−1 = {e:+.3g} exceeds ±{bound:g}")
+    for name, v in (("R", res.R), ("T", res.T), ("A", res.absorbed)):
+        if v < -bound or v > 1 + bound:
+            problems.append(f"{name} = {v:.4g} outside [0, 1]")
+    return "; ".join(problems) or None
+
+
+def solve_prepared(op: LayerOperator, from_below: bool = False, *, tol: float = DEFAULT_TOL,
                    method: str = "auto", maxiter: int = 500, restart: int | None = None,
                    on_fail: str = "warn", return_field: bool = False,
-                   exact_energy: bool = True, callback: Callback = None) -> DiffractionResult:
+                   exact_energy: bool = False, energy_bound: float = ENERGY_BOUND,
+                   x0: np.ndarray | None = None, callback: Callback = None
+                   ) -> DiffractionResult:
     """Solve for a unit plane wave with the Bloch vector of `op`, from above or below.
 
     tol: relative residual ‖b − A·w‖/‖b‖ at which the iteration stops.  method: 'auto'
     (= 'gmres', see docs/wave_solver.md), 'gmres', 'bicgstab' or 'born' (raises
     BornDivergenceError when the series diverges).  maxiter: operator applications.
-    on_fail: 'warn' (ConvergenceWarning) or 'raise' (ConvergenceError) when tol is not reached;
-    'ignore' only where a truncated iteration is the intent (e.g. first-order Born): the result's
-    `converged` and `residual` still say how far it got.
-    callback(applications, relative_residual) is called after every iteration.
-    exact_energy False skips the scheme-exact ∫|u|² (absorbed = absorbed_midpoint then).
+    on_fail: 'warn' (ConvergenceWarning when tol is not reached, EnergyWarning when
+    |R + T + A − 1| > energy_bound or R, T, A leave [0, 1] by more than it, whatever tol),
+    'raise' (ConvergenceError / EnergyClosureError) or 'ignore' (only where a truncated
+    iteration is the intent, e.g. first-order Born: `converged`, `residual` and
+    `energy_error` still say how far it got).
+    exact_energy: A by quadrature of ∫ Im ε |u|² (≈ 3 applications' worth) instead of from the
+    residual (one inner product); see DiffractionResult.energy_check.
+    x0: initial guess, e.g. `solution` of a solve at a neighbouring wavelength or incidence
+    (same grid; GMRES and BiCGStab).  callback(applications, relative_residual) is called
+    after every iteration.
     """
     if method not in METHODS:
         raise ValueError(f"method must be one of {METHODS}, got {method!r}")
@@ -100,34 +146,35 @@ def solve_prepared(op: LayerOperator, from_below: bool = False, *, tol: float = 
         raise ValueError("on_fail must be 'warn', 'raise' or 'ignore'")
     if not tol > 0:
         raise ValueError("tol must be positive")
+    if not energy_bound > 0:
+        raise ValueError("energy_bound must be positive")
+    if x0 is not None and np.shape(x0) != op.unknown_shape:
+        raise ValueError(f"x0 must have the shape of the unknowns {op.unknown_shape} (a "
+                         f"previous result's `solution` on the same grid), got {np.shape(x0)}")
     t0 = time.perf_counter()
     nx, ny, nz = op.shape
     coef, _, _ = background_amplitudes(op.green, from_below)
     prof = op.pbot if from_below else op.ptop
     b = np.broadcast_to((coef[0, 0] * prof[:, 0, 0])[:, None, None, :].astype(op.dtype),
                         op.unknown_shape).copy()
-    out = _run(op, b, method, tol, maxiter, restart, callback)
+    out = _run(op, b, method, tol, maxiter, restart, x0, callback)
     w = out.x
     f = op.contrast * w
     refl, trans, kz_inc = diffraction_orders(op, f, from_below)
-    a_exact, a_mid = absorption(op, w, f, from_below, kz_inc, exact=exact_energy)
     big_r, big_t = refl.total, trans.total
+    if exact_energy or out.residual_vector is None:
+        a_exact = absorption(op, w, f, from_below, kz_inc, refl, trans)
+        check = "quadrature"
+    else:
+        a_exact, _ = closure(op, out.residual_vector, f, big_r, big_t, from_below, kz_inc)
+        check = "residual"
+    a_mid = midpoint_absorption(op, w, from_below, kz_inc)
     vals = (big_r, big_t, a_exact, a_mid, out.true_residual)
     if not all(math.isfinite(v) for v in vals) or not np.all(np.isfinite(refl.amplitude)) \
             or not np.all(np.isfinite(trans.amplitude)):
         raise WaveSolverError(f"non-finite result (R={big_r}, T={big_t}, A={a_exact}, "
                               f"residual={out.true_residual}) after {out.applications} "
                               f"applications of {out.method}")
-    if not out.converged:
-        msg = (f"wave solver ({out.method}) stopped after {out.applications} operator "
-               f"applications at relative residual {out.true_residual:.3g} > tol {tol:.3g} "
-               f"(λ = {op.wavelength_nm:g} nm, Bloch vector ({op.kx0:.6g}, {op.ky0:.6g}) 1/nm, "
-               f"from {'below' if from_below else 'above'}, grid {op.shape}); energy error "
-               f"R+T+A−1 = {big_r + big_t + a_exact - 1:.2g}")
-        if on_fail == "raise":
-            raise ConvergenceError(msg)
-        if on_fail == "warn":
-            warnings.warn(msg, ConvergenceWarning, stacklevel=2)
     field = None
     if return_field:
         lx, ly = op.cell.period_nm
@@ -135,35 +182,63 @@ def solve_prepared(op: LayerOperator, from_below: bool = False, *, tol: float = 
         y = (np.arange(ny) + 0.5) * ly / ny
         phase = np.exp(1j * (op.kx0 * x[:, None] + op.ky0 * y[None, :]))
         field = w[0] * phase[:, :, None]
-    return DiffractionResult(
+    res = DiffractionResult(
         op.wavelength_nm, op.kx0, op.ky0, bool(from_below), refl, trans, big_r, big_t,
         refl.pwr(0, 0), trans.pwr(0, 0), a_exact, a_mid, big_r + big_t + a_exact - 1.0,
         out.applications, out.residuals, out.true_residual, out.converged,
-        out.method, time.perf_counter() - t0, op.eps_background, kz_inc, field)
+        out.method, time.perf_counter() - t0, op.eps_background, kz_inc, field, w,
+        op.polarisation, check)
+    where = (f"(λ = {op.wavelength_nm:g} nm, Bloch vector ({op.kx0:.6g}, {op.ky0:.6g}) 1/nm, "
+             f"from {'below' if from_below else 'above'}, {op.polarisation.upper()}, grid "
+             f"{op.shape})")
+    if not out.converged:
+        msg = (f"wave solver ({out.method}) stopped after {out.applications} operator "
+               f"applications at relative residual {out.true_residual:.3g} > tol {tol:.3g} "
+               f"{where}; energy error R+T+A−1 = {res.energy_error:.2g}")
+        if on_fail == "raise":
+            raise ConvergenceError(msg)
+        if on_fail == "warn":
+            warnings.warn(msg, ConvergenceWarning, stacklevel=2)
+    problem = _check_energy(res, energy_bound) if out.converged else None
+    if problem is not None and on_fail != "ignore":
+        msg = (f"wave solver ({out.method}, tol {tol:.3g}, residual {out.true_residual:.3g}, "
+               f"{out.applications} applications): {problem} {where}; lower tol")
+        if on_fail == "raise":
+            raise EnergyClosureError(msg)
+        warnings.warn(msg, EnergyWarning, stacklevel=2)
+    return res
 
 
-def solve(cell: Cell, incidence: Incidence, *, tol: float = 1e-4, method: str = "auto",
+def solve(cell: Cell, incidence: Incidence, *, tol: float = DEFAULT_TOL, method: str = "auto",
           maxiter: int = 500, restart: int | None = None, on_fail: str = "warn",
-          return_field: bool = False, exact_energy: bool = True, callback: Callback = None,
-          eps_background: complex | None = None, min_loss: float = DEFAULT_MIN_LOSS,
-          z_order: int = 1, dtype: type | None = None,
-          workers: int | None = None) -> DiffractionResult:
+          return_field: bool = False, exact_energy: bool = False,
+          energy_bound: float = ENERGY_BOUND, x0: np.ndarray | None = None,
+          callback: Callback = None, eps_background: complex | None = None,
+          min_loss: float = DEFAULT_MIN_LOSS, z_order: int = 1, dtype: type | None = None,
+          workers: int | None = None, polarisation: str = "te",
+          eps_face: complex | None = None, background: Background | None = None,
+          fft: str = DEFAULT_FFT) -> DiffractionResult:
     """Diffraction of a unit plane wave by one periodic cell (see solve_prepared, prepare).
 
     For several incidences with the same Bloch vector (above and below), call prepare() once
     and solve_prepared() per side.  The returned `seconds` include the preparation.
     dtype None: complex64 when tol ≥ 1e-5 (its rounding floor is ~1e-6), else complex128.
+    polarisation 'te' | 'tm', eps_face: the face conditions; fft: 'scipy' | 'fftw' | 'auto'
+    (operator.prepare_background).
     """
     if dtype is None:
         dtype = np.complex64 if tol >= 1e-5 else np.complex128
     t0 = time.perf_counter()
     kx0, ky0 = bloch_vector(cell, incidence)
     op = prepare(cell, incidence.wavelength_nm, kx0, ky0, eps_background=eps_background,
-                 min_loss=min_loss, z_order=z_order, dtype=dtype, workers=workers)
+                 min_loss=min_loss, z_order=z_order, dtype=dtype, workers=workers,
+                 polarisation=polarisation, eps_face=eps_face, background=background, fft=fft)
     res = solve_prepared(op, incidence.from_below, tol=tol, method=method, maxiter=maxiter,
                          restart=restart, on_fail=on_fail, return_field=return_field,
-                         exact_energy=exact_energy, callback=callback)
+                         exact_energy=exact_energy, energy_bound=energy_bound, x0=x0,
+                         callback=callback)
     return replace(res, seconds=time.perf_counter() - t0)
 
 
-__all__ = ["DiffractionResult", "solve", "solve_prepared"]
+__all__ = ["DiffractionResult", "solve", "solve_prepared", "EnergyWarning",
+           "EnergyClosureError", "ENERGY_BOUND", "DEFAULT_TOL"]

@@ -1,0 +1,132 @@
+"""The figures' costs and the honesty of their standard errors.
+
+    python -m benchmarks.bench_figures            # ~2–4 min on 2 cores
+    python -m benchmarks.bench_figures draw       # some sections: plan, se, draw
+
+1. plan: cells and estimated build time of Fig. 7, 8 and 9 at each accuracy preset (the table
+   preflight's model; with 2 workers and 16), nothing built;
+2. standard error: one small particle cell built with K seeds; the spread of its CIELAB across
+   seeds against the propagated standard error of one table (independent, per-column
+   correlated, and the larger — what the CSV reports);
+3. drawing: one Fig. 6 cell and one colour + SE for a particle and a molecular table on the
+   default grids, and composing and writing a full 21 × 17 Fig. 7 (one table in every cell,
+   so only drawing is timed).
+"""
+
+from __future__ import annotations
+
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+from solver.figures.cell_colour import cell_colour, lab_jacobian, node_errors, propagate_se
+from solver.figures.cells import CellResult, FigureSettings, build_cells, plan_cells
+from solver.figures.estimate import estimate_seconds
+from solver.figures.fig6 import DPHI_SAMPLES, azimuth_averaged, figure6, pixel_angles_rad
+from solver.figures.layout import CellGeometry
+from solver.figures.make import draw_grid_figure, duration, evaluate_cells
+from solver.figures.paper_grid import FIG7_COLUMNS, FIG7_ROWS, FIGURES, Column
+from solver.table.builder import BuildOptions, build_table
+from solver.table.cache import TableCache
+from solver.table.evaluate import diffuse_brdf
+from solver.table.request import ACCURACY, table_request
+
+OUT = Path("out/bench")
+SE_CELL = ("Y7.5+B7.5", "sphere:300")
+SE_SETTINGS = dict(wavelengths_nm=(420.0, 480.0, 540.0, 600.0, 660.0), sigma_rad=tuple(np.radians([0, 40, 90])),
+                   grid=(24, 24, 12), realizations=3, azimuths=1, tier="full")
+SE_SEEDS = 8
+
+
+def plan_costs() -> None:
+    print("1. estimated build time of every cell (table preflight model; nothing built)")
+    print(f"   {'figure':6s} {'cells':>5s}  " + "  ".join(f"{a + ' (2 / 16 workers)':>28s}" for a in ACCURACY))
+    for name, (rows, columns) in FIGURES.items():
+        line = f"   {name:6s} {len(rows) * len(columns):5d}  "
+        for accuracy in ACCURACY:
+            settings = FigureSettings(accuracy)
+            requests = [settings.request(r.ink, c.particles) for r in rows for c in columns]
+            t2, t16 = (sum(estimate_seconds(q, w) for q in requests) for w in (2, 16))
+            line += f"{duration(t2) + ' / ' + duration(t16):>28s}  "
+        print(line)
+
+
+def se_check(cache: TableCache) -> None:
+    ink, particles = SE_CELL
+    print(f"\n2. standard error of the colour: {ink} {particles}, {SE_SETTINGS['realizations']} realizations, "
+          f"grid {SE_SETTINGS['grid']}, {len(SE_SETTINGS['wavelengths_nm'])} λ, {SE_SEEDS} seeds")
+    labs, se = [], {m: [] for m in ("independent", "correlated", "larger")}
+    t0 = time.perf_counter()
+    for seed in range(1, SE_SEEDS + 1):
+        table = build_table(table_request(ink, particles, seed=seed, **SE_SETTINGS),
+                            BuildOptions(progress=False, cache=cache))
+        labs.append(cell_colour(table).lab)
+        errors, _ = node_errors(table)
+        jac = lab_jacobian(table)
+        for mode in se:
+            se[mode].append(propagate_se(jac, errors, mode))
+    spread = np.std(labs, axis=0, ddof=1)
+    print(f"   built in {time.perf_counter() - t0:.0f} s; spread across seeds has ±{100 / np.sqrt(2 * (SE_SEEDS - 1)):.0f} % "
+          "sampling error")
+    print(f"   {'':28s} {'L*':>7s} {'a*':>7s} {'b*':>7s}")
+    print(f"   {'observed spread (seeds)':28s} " + " ".join(f"{v:7.3f}" for v in spread))
+    for mode, values in se.items():
+        mean = np.mean(values, axis=0)
+        label = f"propagated SE, {mode}" + (" (CSV)" if mode == "larger" else "")
+        print(f"   {label:28s} " + " ".join(f"{v:7.3f}" for v in mean) + "   ratio to observed "
+              + " ".join(f"{r:4.2f}" for r in mean / spread))
+
+
+def drawing(cache: TableCache) -> None:
+    print("\n3. drawing (tables on the default λ, σ, Δφ grids; a 16×16×8 voxel grid keeps the build short)")
+    opts = BuildOptions(progress=False, cache=cache)
+    particle = build_table(table_request(*SE_CELL, grid=(16, 16, 8), realizations=2, azimuths=1, tier="full"), opts)
+    molecular = build_table(table_request(SE_CELL[0]), opts)
+    g = CellGeometry()
+    figure6(molecular, 0.9, size=8, strip=2)              # warm-up: imports, colour tables
+    for name, table in (("particle", particle), ("molecular", molecular)):
+        t0 = time.perf_counter()
+        for _ in range(5):
+            figure6(table, 0.9, size=g.square, strip=g.strip)
+        per_cell = (time.perf_counter() - t0) / 5
+        t0 = time.perf_counter()
+        for _ in range(5):
+            cell_colour(table)
+        print(f"   {name:9s} ({table.wavelengths.size} λ × {table.sigma.size} σ × {table.dphi.size} Δφ): Fig. 6 cell "
+              f"{1000 * per_cell:.0f} ms, colour + SE {1000 * (time.perf_counter() - t0) / 5:.0f} ms")
+    view, dphi = pixel_angles_rad(g.square), np.linspace(0.0, np.pi, DPHI_SAMPLES)
+    loop = lambda: np.mean([diffuse_brdf(particle, 0.9, view[None, :], view[:, None], p) for p in dphi], axis=0)
+    once = lambda: diffuse_brdf(azimuth_averaged(particle, dphi), 0.9, view[None, :], view[:, None], 0.0)
+    times = {}
+    for name, fn in (("loop", loop), ("once", once)) * 2:          # interleaved, the second pair kept
+        t0 = time.perf_counter()
+        for _ in range(10):
+            fn()
+        times[name] = (time.perf_counter() - t0) / 10
+    print(f"   Fig. 6 square, mean over {DPHI_SAMPLES} Δφ: one evaluation per Δφ {1000 * times['loop']:.0f} ms, "
+          f"one of the Δφ-averaged table {1000 * times['once']:.1f} ms (max difference "
+          f"{np.max(np.abs(loop() - once())):.1e})")
+    rows, columns = FIG7_ROWS, FIG7_COLUMNS
+    results = [CellResult(p, particle) for p in plan_cells(rows, tuple(
+        Column("molecular", c.group, c.sub) for c in columns), FigureSettings("default"))]
+    OUT.mkdir(parents=True, exist_ok=True)
+    t0 = time.perf_counter()
+    _, _, pictures = evaluate_cells(results, g)
+    layout = draw_grid_figure("fig7", rows, columns, pictures, "default", OUT / "fig7_layout.png", g)
+    print(f"   a full Fig. 7 (21 × 17 cells, the particle table in each; with each cell's colour + SE): {time.perf_counter() - t0:.1f} s, "
+          f"{layout.size[0]} × {layout.size[1]} px: {OUT / 'fig7_layout.png'}")
+
+
+def main(argv=None) -> int:
+    cache = TableCache(Path(tempfile.mkdtemp(prefix="figures_")))
+    sections = {"plan": plan_costs, "se": lambda: se_check(cache), "draw": lambda: drawing(cache)}
+    for name in (argv or sections):
+        sections[name]()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

@@ -1,0 +1,72 @@
+"""`ink-tables paper fig7|fig8|fig9`: the paper's figures, each from one command.
+
+    ink-tables paper fig8 --accuracy preview --report fig8.md -o fig8.png      # + fig8.csv
+    ink-tables paper fig7 --rows R15,Y7.5+B7.5 --columns molecular,sphere:100 -o part.png
+
+Every missing table is built through the cache (an interrupted run resumes), the estimated
+time is printed before the work starts and a progress bar shows the ETA; docs/figures.md says
+what each figure and each CSV column shows.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ..figures import FIGURES, FigureSettings, make_figure, parse_columns, parse_rows
+from ..table.request import ACCURACY, TIERS, uniform_angles, wavelength_range
+from .build import add_run_arguments, check_output, options_from_args
+
+
+def add_parser(sub) -> None:
+    p = sub.add_parser("paper", help="reproduce the paper's Fig. 7, Fig. 8 or Fig. 9 (PNG + CSV)")
+    p.add_argument("figure", choices=tuple(FIGURES), help="which figure")
+    p.add_argument("-o", "--output", required=True, help="the figure (.png); the cells' colours go to the same "
+                   "name with .csv")
+    p.add_argument("--accuracy", choices=tuple(ACCURACY), default="default",
+                   help="preset of the particle tables (default: default; docs/tables.md: error and cost of each)")
+    p.add_argument("--rows", default=None, metavar="INKS",
+                   help="ink specs separated by commas, e.g. R15,Y7.5+B7.5 (default: the figure's rows)")
+    p.add_argument("--columns", default=None, metavar="GRAINS",
+                   help="particle specs separated by commas, e.g. molecular,sphere:100,cylinder:200:inplane "
+                        "(default: the figure's columns)")
+    p.add_argument("--report", default=None, metavar="OUT.md",
+                   help="also test the paper's §3.3 findings on every row/column pair and write them here")
+    g = p.add_argument_group("overrides of the preset (quick drafts; every cell gets them)")
+    g.add_argument("--wavelengths", default=None, metavar="START:STOP:STEP", help="wavelengths in nm")
+    g.add_argument("--angles", type=int, default=None, metavar="COUNT",
+                   help="incidence angles, uniform from 0° to 90° inclusive")
+    g.add_argument("--grid", type=int, nargs=3, default=None, metavar=("NX", "NY", "NZ"), help="voxels per cell")
+    g.add_argument("--realizations", type=int, default=None, help="random cells per wavelength")
+    g.add_argument("--azimuths", type=int, default=None, help="incidence azimuths per realization")
+    g.add_argument("--cell", type=float, default=None, help="lateral period of the cell, nm")
+    g.add_argument("--tier", default=None, choices=TIERS, help="model of the particle tables")
+    g.add_argument("--seed", type=int, default=None, help="random seed of the realizations")
+    add_run_arguments(p)
+    p.set_defaults(func=run)
+
+
+def settings_from_args(args) -> FigureSettings:
+    overrides = []
+    if args.wavelengths is not None:
+        overrides.append(("wavelengths_nm", wavelength_range(args.wavelengths)))
+    if args.angles is not None:
+        overrides.append(("sigma_rad", uniform_angles(args.angles)))
+    for name, value in (("grid", tuple(args.grid) if args.grid else None), ("realizations", args.realizations),
+                        ("azimuths", args.azimuths), ("cell_nm", args.cell), ("tier", args.tier),
+                        ("seed", args.seed)):
+        if value is not None:
+            overrides.append((name, value))
+    return FigureSettings(args.accuracy, tuple(overrides))
+
+
+def run(args) -> int:
+    if args.workers is not None and args.scheduler:
+        raise ValueError("--workers and --scheduler exclude each other: the scheduler's workers do the work")
+    rows = parse_rows(args.rows, args.figure)
+    columns = parse_columns(args.columns, args.figure)
+    settings = settings_from_args(args)
+    opts = options_from_args(args)
+    out = check_output(Path(args.output), ".png", "-o")
+    report = check_output(Path(args.report), ".md", "--report") if args.report else None
+    make_figure(args.figure, rows, columns, settings, opts, out, report)
+    return 0

@@ -1,0 +1,166 @@
+"""The cells of a figure: one table request per ink × grains, estimated, then built through the
+cache one after another (resumable: finished tables and work units are kept).
+
+Cylinders 'across the layer' (docs/design.md §3): vertical cylinders longer than half the layer
+cannot pack beyond a geometric bound (≈ 44.5 % for 300-nm cylinders in a 1000-nm layer), so such
+a column uses, per row, the smallest orientation spread (`tilt=` in degrees, from TILTS_DEG)
+whose layer reaches the row's concentration (`solver.geometry.smallest_tilt_reaching`).
+
+No cell is skipped: a cell whose planning or build raises is kept as failed, with the reason.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from dataclasses import dataclass, field
+
+from tqdm import tqdm
+
+from ..geometry.spec import MOLECULAR_WORDS
+from ..table.builder import BuildOptions, get_or_build
+from ..table.request import TableRequest, table_request
+from ..table.schema import InkTable
+from .estimate import estimate_seconds
+from .paper_grid import Column, Row
+
+log = logging.getLogger("inkbsdf.figures")
+
+#: orientation spreads (degrees from the layer normal) tried for cylinders across the layer
+TILTS_DEG = (0.0, 5.0, 10.0, 15.0, 20.0, 25.0, 30.0, 40.0, 50.0, 60.0)
+GRID_OPTIONS = ("wavelengths_nm", "sigma_rad")
+
+
+@dataclass(frozen=True)
+class FigureSettings:
+    """What every table of a figure is computed with: an accuracy preset and overrides
+    (grids for every cell; wave settings, as `table_request` takes them, for particle cells)."""
+
+    accuracy: str = "default"
+    overrides: tuple[tuple[str, object], ...] = ()
+
+    def request(self, ink, particles: str) -> TableRequest:
+        molecular = particles.strip().lower() in MOLECULAR_WORDS
+        kw = {k: v for k, v in self.overrides if k in GRID_OPTIONS or not molecular}
+        return table_request(ink, particles, accuracy=self.accuracy, **kw)
+
+    @property
+    def label(self) -> str:
+        """'preview' or 'preview (grid=16x16x8, 4 λ 400–700 nm, …)' for the CSV and captions."""
+        if not self.overrides:
+            return self.accuracy
+        return f"{self.accuracy} ({', '.join(_describe(k, v) for k, v in self.overrides)})"
+
+
+def _describe(name: str, value) -> str:
+    if name == "wavelengths_nm":
+        return f"{len(value)} λ {value[0]:g}–{value[-1]:g} nm"
+    if name == "sigma_rad":
+        return f"{len(value)} incidence angles"
+    if isinstance(value, tuple):
+        return f"{name}={'x'.join(map(str, value))}"
+    return f"{name}={value}"
+
+
+@dataclass(frozen=True)
+class CellPlan:
+    row: Row
+    column: Column
+    i: int                               # row index in the figure
+    j: int                               # column index
+    request: TableRequest | None         # None: the cell could not be planned (error says why)
+    tilt_deg: float | None = None        # across cylinders: the orientation spread used
+    error: str | None = None
+
+    @property
+    def particles(self) -> str:
+        return self.request.particles_label if self.request is not None else self.column.particles
+
+
+@dataclass(frozen=True)
+class CellResult:
+    plan: CellPlan
+    table: InkTable | None
+    built: bool = False
+    seconds: float = 0.0
+    error: str | None = None
+    estimate_s: float = field(default=0.0)
+
+    @property
+    def ok(self) -> bool:
+        return self.table is not None
+
+
+def failure_reason(exc: BaseException) -> str:
+    text = " ".join(str(exc).split())
+    return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
+
+
+def across_particles(row: Row, column: Column, settings: FigureSettings) -> tuple[str, float | None]:
+    """The particle spec of a cylinders-across-the-layer cell, and the tilt it uses."""
+    from ..table.wave_tier import layer_spec
+
+    try:
+        from ..geometry import smallest_tilt_reaching
+    except ImportError:          # orientation spreads not available yet: plain vertical cylinders
+        return column.particles, None
+    tilt = smallest_tilt_reaching(layer_spec(settings.request(row.ink, column.particles)), TILTS_DEG)
+    if tilt is None:
+        raise ValueError(f"no orientation spread up to {TILTS_DEG[-1]:g}° reaches {row.label} with "
+                         f"{column.particles}")
+    tilt = float(tilt)
+    return (column.particles if tilt == 0 else f"{column.particles}:tilt={tilt:g}"), tilt
+
+
+def plan_cells(rows, columns, settings: FigureSettings) -> list[CellPlan]:
+    """One plan per cell, rows first.  Errors of the settings themselves are raised (bad input);
+    a cell that cannot be planned (e.g. no tilt reaches its concentration) is kept as failed."""
+    settings.request("Y7.5+B7.5", "molecular")          # the settings are checked once, here
+    settings.request("Y7.5+B7.5", "sphere:100")
+    plans = []
+    for i, row in enumerate(rows):
+        for j, column in enumerate(columns):
+            try:
+                particles, tilt = (across_particles(row, column, settings) if column.across
+                                   else (column.particles, None))
+                plans.append(CellPlan(row, column, i, j, settings.request(row.ink, particles), tilt))
+            except Exception as exc:               # noqa: BLE001 — recorded and drawn, never dropped
+                plans.append(CellPlan(row, column, i, j, None, error=failure_reason(exc)))
+    return plans
+
+
+def estimates(plans, opts: BuildOptions) -> list[float]:
+    """Seconds each cell is expected to take: 0 for a cached table or a failed plan."""
+    out = []
+    for plan in plans:
+        if plan.request is None or opts.cache.table_path(plan.request).exists():
+            out.append(0.0)
+        else:
+            out.append(estimate_seconds(plan.request, opts.workers))
+    return out
+
+
+def build_cells(plans, opts: BuildOptions, seconds: list[float], progress: bool = True) -> list[CellResult]:
+    """Build (or load) every planned table, in order; a failing cell is recorded and the run
+    goes on.  The bar advances by each cell's estimate, so its ETA follows the estimate."""
+    results = []
+    bar = tqdm(total=max(sum(seconds), 1e-9), disable=not progress, unit="s", unit_scale=True,
+               desc="cells", bar_format="{desc}: {percentage:3.0f}%|{bar}| [{elapsed}<{remaining}] {postfix}")
+    try:
+        for k, (plan, est) in enumerate(zip(plans, seconds)):
+            bar.set_postfix_str(f"{k}/{len(plans)} cells, now {plan.row.spec} {plan.column.particles}")
+            t0 = time.perf_counter()
+            if plan.request is None:
+                results.append(CellResult(plan, None, error=plan.error, estimate_s=est))
+            else:
+                try:
+                    table, _, built = get_or_build(plan.request, opts)
+                    results.append(CellResult(plan, table, built, time.perf_counter() - t0, estimate_s=est))
+                except Exception as exc:           # noqa: BLE001 — a failed cell is drawn crossed out
+                    log.warning("cell %s × %s failed: %s", plan.row.spec, plan.particles, failure_reason(exc))
+                    results.append(CellResult(plan, None, False, time.perf_counter() - t0, failure_reason(exc), est))
+            bar.update(est)
+        bar.set_postfix_str(f"{len(plans)}/{len(plans)} cells")
+    finally:
+        bar.close()
+    return results

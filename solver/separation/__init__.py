@@ -1,0 +1,31 @@
+"""Colour separation and halftoning of images for printing with the project's inks (pure
+NumPy; Pillow for image files): docs/printing.md.
+
+    from solver.separation import PrintSettings, parse_dots, print_image, printed_inks, read_srgb8
+    settings = PrintSettings(inks=("R30", "Y30", "B30"), dots=parse_dots("AM:150"))
+    result = print_image(read_srgb8("photo.png"), settings, printed_inks(settings.inks))
+    result.separation.report.lines(); result.textures          # uint8 per ink, 255 = full ink
+
+Stages, one per module: `printset` (ink specs → tables of inks and overprints, through the
+cache), `printmodel` (coverages → CIELAB with `solver.printing`), `solve` (LUT + projected
+Levenberg–Marquardt), `separate` (an image's distinct colours, report), `screens` (AM and FM
+thresholds), `halftone` (texel grid, dots), `image` (files), `job` (one print's settings).
+"""
+
+from .colour_space import INTENTS, delta_e76, delta_e2000, lab_to_srgb8, srgb8_to_lab
+from .halftone import Dots, DotsError, TexelGrid, halftone_ink, parse_dots, texture_mean
+from .image import ImageError, read_srgb8, unique_colours, write_grey_png, write_rgb_png
+from .job import AUTO_MODEL, PrintedImage, PrintSettings, print_image, resolve_coverage_model, write_textures
+from .printmodel import PrintColourModel
+from .printset import InkListError, parse_ink_list, printed_inks
+from .screens import am_threshold, blue_noise_mask, fm_threshold, screen_angles
+from .separate import ImageSeparation, SeparationReport, separate_image
+from .solve import CoverageGrid, Separation, SolverSettings, separate_lab
+
+__all__ = ["AUTO_MODEL", "INTENTS", "CoverageGrid", "Dots", "DotsError", "ImageError", "ImageSeparation",
+           "InkListError", "PrintColourModel", "PrintSettings", "PrintedImage", "Separation",
+           "SeparationReport", "SolverSettings", "TexelGrid", "am_threshold", "blue_noise_mask",
+           "delta_e76", "delta_e2000", "fm_threshold", "halftone_ink", "lab_to_srgb8", "parse_dots",
+           "parse_ink_list", "print_image", "printed_inks", "read_srgb8", "resolve_coverage_model",
+           "screen_angles", "separate_image", "separate_lab", "srgb8_to_lab", "texture_mean",
+           "unique_colours", "write_grey_png", "write_rgb_png", "write_textures"]

@@ -1,0 +1,229 @@
+"""`ink-tables paper`: a tiny Fig. 7 (layout, CSV, cache), a failing cell, Fig. 9, bad input."""
+
+import csv
+import subprocess
+import sys
+
+import matplotlib.image
+import numpy as np
+import pytest
+
+import solver.figures.cells as cells_mod
+from solver.cli import main
+from solver.figures.cells import FigureSettings, across_particles, build_cells, plan_cells
+from solver.figures.draw import RULE_GREY
+from solver.figures.fig6 import crossed_out, figure6
+from solver.figures.layout import CellGeometry, GridLayout, grid_labels, header_rules
+from solver.figures.make import grid_caption, spectra_panels
+from solver.figures.paper_grid import TITLES, parse_columns, parse_rows
+from solver.inks import molecular_eps, parse_ink
+from solver.table.builder import BuildOptions
+from solver.table.cache import TableCache
+from solver.table.schema import read_table
+
+TINY = ["--wavelengths", "450:650:100", "--angles", "3", "--grid", "16", "16", "8", "--realizations", "2",
+        "--azimuths", "1", "--tier", "full", "--workers", "1", "--no-progress"]
+ROWS, COLUMNS = "Y7.5+B7.5", "molecular,sphere:300,sphere:300:rough"
+
+
+def read_png(path) -> np.ndarray:
+    return np.round(matplotlib.image.imread(path)[..., :3] * 255).astype(int)
+
+
+def read_rows(path) -> list[dict]:
+    with open(path, newline="", encoding="utf-8") as fh:
+        return list(csv.DictReader(fh))
+
+
+def run_fig7(tmp_path, out_name="f.png", extra=()):
+    out = tmp_path / out_name
+    code = main(["paper", "fig7", "--rows", ROWS, "--columns", COLUMNS, "--cache", str(tmp_path / "cache"),
+                 "-o", str(out), *TINY, *extra])
+    assert code == 0
+    return out
+
+
+def layout_of(n_rows, n_cols, has_sub=True):
+    return GridLayout(n_rows, n_cols, CellGeometry(), has_sub)
+
+
+def test_tiny_fig7_layout_csv_and_cache_hits(tmp_path, monkeypatch):
+    out = run_fig7(tmp_path, extra=["--report", str(tmp_path / "f.md")])
+    image = read_png(out)
+    layout = layout_of(1, 3)          # sphere:300 has the sub-label 'normal'
+    assert image.shape[1::-1] == layout.size
+
+    rows = read_rows(out.with_suffix(".csv"))
+    assert [(r["ink"], r["column"]) for r in rows] == [("Y7.5+B7.5", "molecular"), ("Y7.5+B7.5", "sphere:300"),
+                                                       ("Y7.5+B7.5", "sphere:300:rough")]
+    cache = tmp_path / "cache" / "tables"
+    tables = []
+    for r in rows:
+        assert r["status"] == "ok" and r["computed"] == "yes" and r["reason"] == ""
+        lab = [float(r[k]) for k in ("L", "a", "b")]
+        se = [float(r[k]) for k in ("L_se", "a_se", "b_se")]
+        assert np.all(np.isfinite(lab)) and np.all(np.isfinite(se)) and 0 < lab[0] < 100
+        table = read_table(cache / f"{r['cache_key']}.npz")
+        assert table.meta["cache_key"] == r["cache_key"]
+        tables.append(table)
+    assert rows[0]["se_source"] == "exact" and all(float(rows[0][k]) == 0 for k in ("L_se", "a_se", "b_se"))
+    assert rows[1]["se_source"] == "realizations" and float(rows[1]["L_se"]) > 0
+    assert rows[2]["particles"] == "sphere:300:rough=0.5" and rows[2]["grains"] == "Balls 300 nm rough surface"
+    assert rows[1]["tier"] == "full" and "grid=16x16x8" in rows[1]["accuracy"]
+
+    # each cell holds the Fig. 6 picture of its table, pixel for pixel
+    g = layout.geometry
+    for j, table in enumerate(tables):
+        strip, square = figure6(table, 0.9, size=g.square, strip=g.strip)
+        for picture, (x0, y0, x1, y1) in ((strip, layout.strip_box(0, j)), (square, layout.square_box(0, j))):
+            np.testing.assert_array_equal(image[y0:y1, x0:x1], picture)
+
+    # every mark outside the cells is a label inside its box, and every label left a mark
+    groups = ["infinitesimal particles", "Balls 300 nm", "Balls 300 nm"]
+    labels = grid_labels(layout, ["Y7.5% + B7.5%"], groups, ["", "normal", "rough surface"],
+                         TITLES["fig7"], grid_caption(rows[0]["accuracy"]))
+    (rx0, ry0, rx1, ry1), = header_rules(layout, groups)           # one group spans two columns
+    assert rx0 > layout.cell_box(0, 1)[0] and rx1 < layout.cell_box(0, 2)[2]
+    assert np.all(image[ry0:ry1, rx0:rx1] == RULE_GREY)
+    ink = np.any(image < 200, axis=2)
+    for i, j in ((0, 0), (0, 1), (0, 2)):
+        x0, y0, x1, y1 = layout.cell_box(i, j)
+        ink[y0:y1, x0:x1] = False
+    inside = np.zeros_like(ink)
+    for label in labels:
+        x0, y0, x1, y1 = label.box
+        assert ink[y0:y1, x0:x1].any(), f"label {label.text!r} not drawn in its box"
+        inside[y0:y1, x0:x1] = True
+    assert not (ink & ~inside).any(), "text drawn outside the label boxes"
+    assert "| 1. Colour saturates" in (tmp_path / "f.md").read_text()
+
+    # again: everything from the cache, nothing computed
+    import solver.table.builder as builder
+    import solver.table.wave_tier as wt
+
+    def boom(*a, **k):
+        raise AssertionError("computed on a cache hit")
+
+    for module, name in ((builder, "build_table"), (wt, "solve_unit"), (wt, "geometry_unit")):
+        monkeypatch.setattr(module, name, boom)
+    again = run_fig7(tmp_path, "g.png")
+    rows2 = read_rows(again.with_suffix(".csv"))
+    assert [r["computed"] for r in rows2] == ["no"] * 3 and all(r["status"] == "ok" for r in rows2)
+    assert [r["cache_key"] for r in rows2] == [r["cache_key"] for r in rows]
+    np.testing.assert_array_equal(read_png(again), image)
+
+
+def test_failing_cell_is_crossed_out_not_dropped(tmp_path, monkeypatch, capsys):
+    real = cells_mod.get_or_build
+
+    def flaky(request, opts):
+        if not request.molecular:
+            raise RuntimeError("solver diverged\nat λ = 450 nm")
+        return real(request, opts)
+
+    monkeypatch.setattr(cells_mod, "get_or_build", flaky)
+    out = run_fig7(tmp_path)
+    rows = read_rows(out.with_suffix(".csv"))
+    assert [r["status"] for r in rows] == ["ok", "failed", "failed"]
+    assert rows[1]["reason"] == "RuntimeError: solver diverged at λ = 450 nm"
+    assert rows[1]["L"] == "" and rows[1]["cache_key"]          # the request's key, for a rerun
+    layout = layout_of(1, 3)
+    for j in (1, 2):
+        x0, y0, x1, y1 = layout.cell_box(0, j)
+        np.testing.assert_array_equal(read_png(out)[y0:y1, x0:x1], crossed_out(y1 - y0, x1 - x0))
+    assert "2 failed" in capsys.readouterr().out
+
+
+def test_a_table_that_cannot_be_drawn_fails_its_cell_only(tmp_path, monkeypatch):
+    import solver.figures.make as make
+
+    real = make.figure6
+
+    def picky(table, *a, **k):
+        if table.meta["ink"] == "Y15":
+            raise FloatingPointError("NaN in the square")
+        return real(table, *a, **k)
+
+    monkeypatch.setattr(make, "figure6", picky)
+    out = tmp_path / "m.png"
+    assert main(["paper", "fig8", "--rows", "R15,Y15", "--columns", "molecular", "--no-progress",
+                 "--cache", str(tmp_path / "cache"), "-o", str(out)]) == 0
+    rows = read_rows(out.with_suffix(".csv"))
+    assert [r["status"] for r in rows] == ["ok", "failed"]
+    assert rows[1]["reason"] == "evaluating the table: FloatingPointError: NaN in the square"
+    layout = GridLayout(2, 1, CellGeometry(), has_sub=False)
+    x0, y0, x1, y1 = layout.cell_box(1, 0)
+    np.testing.assert_array_equal(read_png(out)[y0:y1, x0:x1], crossed_out(y1 - y0, x1 - x0))
+
+
+def test_across_cylinders_use_the_smallest_reaching_tilt(tmp_path, monkeypatch):
+    import solver.geometry as geometry
+
+    seen = []
+
+    def smallest(layer, tilts):
+        seen.append((layer.ink.label, layer.particles.label, tuple(tilts)))
+        return {0.15: 0.0, 0.5: 15.0}.get(round(layer.ink.total_fraction, 2))
+
+    monkeypatch.setattr(geometry, "smallest_tilt_reaching", smallest, raising=False)
+    settings = FigureSettings("preview")
+    column = parse_columns("cylinder:300:vertical", "fig7")[0]
+    assert column.across and column.sub == "vertically aligned"
+    assert across_particles(parse_rows("R15", "fig7")[0], column, settings) == ("cylinder:300:vertical", 0.0)
+    assert across_particles(parse_rows("R50", "fig7")[0], column, settings) == ("cylinder:300:vertical:tilt=15", 15.0)
+    assert seen[0][:2] == ("R15", "cylinder:300:vertical") and 0.0 in seen[0][2]
+    # no spread reaches it: the cell is planned as failed (drawn, with the reason), not skipped
+    plans = plan_cells(parse_rows("R30", "fig7"), (column,), settings)
+    assert len(plans) == 1 and plans[0].request is None and "no orientation spread" in plans[0].error
+    opts = BuildOptions(workers=1, progress=False, cache=TableCache(tmp_path / "cache"))
+    results = build_cells(plans, opts, [0.0], progress=False)
+    assert not results[0].ok and results[0].error == plans[0].error
+
+
+def film_transmittance(ink: str, wl_nm: np.ndarray, thickness_nm: float = 1000.0) -> np.ndarray:
+    """Airy transmittance of an absorbing slab in air at normal incidence (independent oracle)."""
+    n = np.sqrt(molecular_eps(parse_ink(ink), wl_nm))
+    r01, r12 = (1 - n) / (1 + n), (n - 1) / (n + 1)
+    t01, t12 = 2 / (1 + n), 2 * n / (n + 1)
+    phase = np.exp(1j * 2 * np.pi / wl_nm * n * thickness_nm)
+    return np.abs(t01 * t12 * phase / (1 + r01 * r12 * phase ** 2)) ** 2
+
+
+def test_fig9_molecular_curves_are_the_film_transmittance(tmp_path):
+    rows, columns = parse_rows("G15,G30,R15", "fig9"), parse_columns("molecular", "fig9")
+    opts = BuildOptions(workers=1, progress=False, cache=TableCache(tmp_path / "cache"))
+    plans = plan_cells(rows, columns, FigureSettings("preview"))
+    panels = spectra_panels(rows, columns, build_cells(plans, opts, [0.0] * len(plans), progress=False))
+    assert [p.title for p in panels] == ["Fig. 9.1. green pigment", "Fig. 9.2. red pigment"]
+    assert [len(p.curves) for p in panels] == [2, 1]
+    for curve, ink in zip(panels[0].curves + panels[1].curves, ("G15", "G30", "R15")):
+        assert curve.label == f"{ink}%, molecular"
+        np.testing.assert_allclose(curve.value, film_transmittance(ink, curve.wavelengths_nm), atol=1e-9)
+        np.testing.assert_array_equal(curve.se, 0.0)       # exact film
+    g15, g30 = panels[0].curves[0].value, panels[0].curves[1].value
+    assert np.all(g30 < g15)                               # more pigment, less light through
+    out = tmp_path / "f9.png"
+    assert main(["paper", "fig9", "--rows", "G15,R15", "--columns", "molecular", "--no-progress",
+                 "--cache", str(tmp_path / "cache"), "-o", str(out)]) == 0
+    assert read_png(out).shape[0] > 300 and len(read_rows(out.with_suffix(".csv"))) == 2
+
+
+@pytest.mark.parametrize("args, words", [
+    (["--rows", "Q5"], "unknown pigment 'Q'"),
+    (["--columns", "sphere:-3"], "negative particle size"),
+    (["--columns", "sphere:100,sphere:100.0"], "given twice"),
+    (["--grid", "2", "2", "2"], "--grid"),
+    (["--workers", "2", "--scheduler", "tcp://127.0.0.1:1"], "exclude each other"),
+])
+def test_bad_input_is_one_line_before_any_work(tmp_path, args, words):
+    res = subprocess.run([sys.executable, "-m", "solver.cli", "paper", "fig8", "--cache", str(tmp_path / "c"),
+                          "-o", str(tmp_path / "x.png"), *args], capture_output=True, text=True)
+    assert res.returncode == 2, res.stderr
+    assert words in res.stderr and res.stderr.count("\n") == 1, res.stderr
+    assert not (tmp_path / "c" / "tables").exists() or not any((tmp_path / "c" / "tables").iterdir())
+
+
+def test_output_must_be_a_png(tmp_path):
+    res = subprocess.run([sys.executable, "-m", "solver.cli", "paper", "fig9", "-o", str(tmp_path / "x.jpg")],
+                         capture_output=True, text=True)
+    assert res.returncode == 2 and ".png" in res.stderr
