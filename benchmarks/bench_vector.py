@@ -86,9 +86,9 @@ def _colour(case, ev, es, what) -> dict:
             print(f"    {name:5s} view {sig:4.0f}°: vector L*a*b* {lab_v[j, 0]:6.2f} {lab_v[j, 1]:6.2f} "
                   f"{lab_v[j, 2]:6.2f}  {what} {lab_s[j, 0]:6.2f} {lab_s[j, 1]:6.2f} {lab_s[j, 2]:6.2f}"
                   f"  ΔE2000 {de[j]:.2f}")
-    if "s" in out and "unpol" not in out:
+    if "s" in out:
         de = compare.delta_e2000(compare.lab_of(ev, 2), compare.lab_of(es, 0))
-        print(f"    {what} TE-only against the unpolarised vector layer: ΔE2000 " +
+        print(f"    {what} TE-only (a TE table) against the unpolarised vector layer: ΔE2000 " +
               ", ".join(f"{sig:g}°: {d:.2f}" for sig, d in zip(case.polar_deg, de)))
         out["te_vs_unpol"] = de
     return out
