@@ -5,8 +5,6 @@ benchmarks/bench_wave.py; the FFT libraries are measured only where they are ins
 from __future__ import annotations
 
 import importlib.util
-import math
-import time
 
 import numpy as np
 import scipy.fft as sfft
