@@ -11,7 +11,7 @@ import sys
 import time
 
 STUDIES = ("geometry", "wave", "render", "tables", "findings", "polarisation", "printing", "figures",
-           "polarized", "separation")
+           "polarized", "separation", "vector")
 
 
 def main(argv: list[str]) -> int:
@@ -23,7 +23,7 @@ def main(argv: list[str]) -> int:
     for name in names:
         print(f"\n===== benchmarks.bench_{name} =====", flush=True)
         t0 = time.perf_counter()
-        importlib.import_module(f"benchmarks.bench_{name}").main()
+        importlib.import_module(f"benchmarks.bench_{name}").main([])
         print(f"===== bench_{name}: {time.perf_counter() - t0:.1f} s =====", flush=True)
     return 0
 

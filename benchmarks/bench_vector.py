@@ -1,0 +1,240 @@
+"""Vector Maxwell referee (treams) against the scalar wave solver, in colour (not a test).
+
+Needs the optional extra: `pip install -e '.[test,vector]'` (treams).  Docs:
+docs/vector_referee.md.
+
+    python -m benchmarks.bench_vector                  # table of every case from the cache
+    python -m benchmarks.bench_vector --compute 600    # compute missing units for ≤ 600 s first
+    python -m benchmarks.bench_vector --quick          # one small unit (~1–2 min), both solvers
+    python -m benchmarks.bench_vector --validate       # the referee's checks (~1–2 min)
+    python -m benchmarks.bench_vector --knobs          # lmax, plane-wave cutoff, scalar grid
+    python -m benchmarks.bench_vector --case 1 --compute 3000   # one case only
+
+Vector units are cached in out/bench/vector/ (one .npz per realization, λ, σ); the table lists
+what the cache holds and names the units still missing.  `--compute` works through CASES in
+order (cheapest first) and stops starting new units when its time is up.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+from benchmarks.vector import compare, runs
+from benchmarks.vector.cases import Case, host_eps, sphere_eps
+
+COLOUR_WAVELENGTHS = (420.0, 470.0, 520.0, 580.0, 660.0)
+
+#: The comparison cases, cheapest first.  Cells are as large as the lattice sums allow on the
+#: 2-core VM (docs/vector_referee.md: cost ∝ pairs of spheres × (2·lmax + 1)²).
+CASES = (
+    Case(300.0, 0.15, 1000.0, COLOUR_WAVELENGTHS),
+    Case(100.0, 0.15, 500.0, (420.0, 470.0, 520.0, 660.0), pw_cutoff_per_nm=0.08),
+    Case(300.0, 0.50, 1000.0, (470.0, 550.0), polar_deg=(0.0,)),
+    Case(100.0, 0.50, 400.0, (470.0, 550.0), polar_deg=(0.0,), pw_cutoff_per_nm=0.08),
+)
+QUICK = Case(300.0, 0.15, 1000.0, (500.0,), polar_deg=(0.0,))
+
+
+def units_of(case: Case, *, compute_until: float | None = None):
+    """[λ][σ] lists over realizations of the vector units and, per scalar variant, the scalar
+    units; missing vector units are computed while time.monotonic() < compute_until, else
+    listed in `missing`."""
+    vec, missing = [], []
+    sca = {v: [] for v in runs.VARIANTS}
+    for lam in case.wavelengths_nm:
+        vrow, srows = [], {v: [] for v in runs.VARIANTS}
+        for sig in case.polar_deg:
+            vs, ss = [], {v: [] for v in runs.VARIANTS}
+            for r in range(case.realizations):
+                go = compute_until is not None and time.monotonic() < compute_until
+                u = runs.vector_unit(case, r, lam, sig, compute=go)
+                if u is None:
+                    missing.append((r, lam, sig))
+                    continue
+                vs.append(u)
+                for v in runs.VARIANTS:
+                    ss[v].append(runs.scalar_unit(case, r, lam, sig, v))
+            vrow.append(vs)
+            for v in runs.VARIANTS:
+                srows[v].append(ss[v])
+        vec.append(vrow)
+        for v in runs.VARIANTS:
+            sca[v].append(srows[v])
+    return vec, sca, missing
+
+
+def _fmt(x, nd=4):
+    return "  n/a " if not np.isfinite(x) else f"{x:.{nd}f}"
+
+
+def _colour(case, ev, es, what) -> dict:
+    out = {}
+    for p, name in enumerate(compare.POL_NAMES):
+        if not np.all(np.isfinite(es.Rbar[..., p])):
+            print(f"    {name:5s}: scalar solver lacks this polarisation (TM pending)")
+            continue
+        lab_v, lab_s = compare.lab_of(ev, p), compare.lab_of(es, p)
+        de = compare.delta_e2000(lab_v, lab_s)
+        out[name] = de
+        for j, sig in enumerate(case.polar_deg):
+            print(f"    {name:5s} view {sig:4.0f}°: vector L*a*b* {lab_v[j, 0]:6.2f} {lab_v[j, 1]:6.2f} "
+                  f"{lab_v[j, 2]:6.2f}  {what} {lab_s[j, 0]:6.2f} {lab_s[j, 1]:6.2f} {lab_s[j, 2]:6.2f}"
+                  f"  ΔE2000 {de[j]:.2f}")
+    if "s" in out:
+        de = compare.delta_e2000(compare.lab_of(ev, 2), compare.lab_of(es, 0))
+        print(f"    {what} TE-only (a TE table) against the unpolarised vector layer: ΔE2000 " +
+              ", ".join(f"{sig:g}°: {d:.2f}" for sig, d in zip(case.polar_deg, de)))
+        out["te_vs_unpol"] = de
+    return out
+
+
+def small_particle_limit(case: Case) -> str:
+    """Quasi-static limit: the scalar equation's effective medium is the volume mean of ε (ε enters
+    as a potential), Maxwell's is Maxwell Garnett (spheres polarise: local-field factor)."""
+    parts = []
+    for lam in case.wavelengths_nm:
+        ep, eh, f = sphere_eps(case, lam), host_eps(), case.fraction
+        beta = (ep - eh) / (ep + 2 * eh)
+        mg = eh * (1 + 2 * f * beta) / (1 - f * beta)
+        mean = (1 - f) * eh + f * ep
+        field = abs(3 * eh / (ep + 2 * eh)) ** 2
+        ratio = f"{mg.imag / mean.imag:.3f}" if mean.imag > 1e-9 else "(no loss)"
+        parts.append(f"{lam:g}: Im ε MG/mean {ratio}, |E_in/E_0|² {field:.3f}")
+    return "; ".join(parts)
+
+
+def print_case(case: Case, vec, sca, missing) -> dict | None:
+    print(f"\n--- {case.label}: λ {list(case.wavelengths_nm)} nm, σ {list(case.polar_deg)}°, "
+          f"{case.realizations} realization(s), pw cutoff {case.pw_cutoff_per_nm}/nm")
+    print(f"    small-particle limit, vector/scalar: {small_particle_limit(case)}")
+    if missing:
+        print(f"    vector units missing ({len(missing)}): " +
+              ", ".join(f"r{r} λ{lam:g} σ{sig:g}" for r, lam, sig in missing[:8]) +
+              (" ..." if len(missing) > 8 else "") + "  (run with --compute SECONDS)")
+        return None
+    secs = [u.seconds for row in vec for us in row for u in us]
+    info = vec[0][0][0].info
+    print(f"    vector: {info.get('info', info)}; {np.mean(secs):.0f} s per unit "
+          f"(all units {np.sum(secs) / 60:.1f} min, 2-core VM shared with other jobs)")
+    cross = max(float(np.abs(u.r00[0, 1]) ** 2 + np.abs(u.r00[1, 0]) ** 2) / 2
+                for row in vec for us in row for u in us)
+    print(f"    vector, cross-polarised mirror beam (s→p, p→s) of one realization: ≤ {cross:.1e} of the incident power")
+    ev = compare.reduce_units(vec, case.wavelengths_nm, case.polar_deg)
+    es = compare.reduce_units(sca["plain"], case.wavelengths_nm, case.polar_deg)
+    el = compare.reduce_units(sca["localfield"], case.wavelengths_nm, case.polar_deg)
+    print("    λ     σ  pol  |  Rbar vec  scal    diff |  Tbar vec  scal    diff | Rspec vec  scal    diff"
+          " | A scal/vec | local-field scalar: ΔRbar  ΔTbar")
+    for i, lam in enumerate(case.wavelengths_nm):
+        for j, sig in enumerate(case.polar_deg):
+            for p, name in enumerate(compare.POL_NAMES):
+                cells = []
+                for q in ("Rbar", "Tbar", "R_spec"):
+                    a, b = getattr(ev, q)[i, j, p], getattr(es, q)[i, j, p]
+                    cells.append(f"{_fmt(a)} {_fmt(b)} {_fmt(b - a):>7}")
+                a_v = 1 - ev.Rbar[i, j, p] - ev.Tbar[i, j, p]
+                a_s = 1 - es.Rbar[i, j, p] - es.Tbar[i, j, p]
+                ratio = a_s / a_v if a_v > 1e-3 else np.nan
+                lf = (f"{_fmt(el.Rbar[i, j, p] - ev.Rbar[i, j, p]):>7} "
+                      f"{_fmt(el.Tbar[i, j, p] - ev.Tbar[i, j, p]):>7}")
+                print(f"  {lam:4.0f} {sig:4.0f}  {name:5s}| " + " | ".join(cells) +
+                      f" | {_fmt(ratio, 3):>9} | {lf}")
+    out = {}
+    if len(case.wavelengths_nm) >= 3 and len(case.polar_deg) >= 2:
+        print("    ink on paper (r = 0.9) under diffuse light, CIELAB (D65) and ΔE2000 to the vector layer:")
+        out["plain"] = _colour(case, ev, es, "scalar")
+        print("    the same with the local-field-corrected pigment ε in the scalar solver (experiment):")
+        out["localfield"] = _colour(case, ev, el, "scalar-LF")
+    out["ensembles"] = (ev, es, el)
+    return out
+
+
+def plot(results, path=Path("out/bench/vector_spectra.png")) -> None:
+    """Albedo of the ink on paper seen at 0° and 60° against λ, per complete case."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    done = [(c, e) for c, e in results
+            if e is not None and len(c.wavelengths_nm) >= 3 and len(c.polar_deg) >= 2]
+    if not done:
+        return
+    fig, axes = plt.subplots(1, len(done), figsize=(5.5 * len(done), 4), squeeze=False)
+    for ax, (case, (ev, es, el)) in zip(axes[0], done):
+        for j, sig in enumerate(case.polar_deg):
+            if sig not in (0.0, 60.0):
+                continue
+            ls = "-" if sig == 0.0 else "--"
+            ax.plot(case.wavelengths_nm, compare.albedo_on_paper(ev, 2)[:, j], "k" + ls, label=f"vector unpol. {sig:g}°")
+            ax.plot(case.wavelengths_nm, compare.albedo_on_paper(ev, 0)[:, j], "b" + ls, lw=0.8, label=f"vector s {sig:g}°")
+            ax.plot(case.wavelengths_nm, compare.albedo_on_paper(es, 0)[:, j], "r" + ls, label=f"scalar TE {sig:g}°")
+            ax.plot(case.wavelengths_nm, compare.albedo_on_paper(el, 0)[:, j], "g" + ls, lw=0.8,
+                    label=f"scalar TE, local-field ε {sig:g}°")
+            if np.all(np.isfinite(es.Rbar[..., 2])):
+                ax.plot(case.wavelengths_nm, compare.albedo_on_paper(es, 2)[:, j], "m" + ls,
+                        label=f"scalar unpol. (TE+TM) {sig:g}°")
+        ax.set_title(case.label, fontsize=9)
+        ax.set_xlabel("wavelength (nm)")
+        ax.set_ylabel("ink on paper (r = 0.9): albedo, diffuse light")
+        ax.grid(alpha=0.3)
+    axes[0][0].legend(fontsize=7)
+    fig.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=110)
+    print(f"\nplot: {path}")
+
+
+def quick() -> int:
+    t0 = time.monotonic()
+    vec, sca, missing = units_of(QUICK, compute_until=time.monotonic() + 1e9)
+    print_case(QUICK, vec, sca, missing)
+    print(f"\n--quick: {time.monotonic() - t0:.0f} s (cached units are read, not recomputed)")
+    return 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m benchmarks.bench_vector", description=__doc__.split("\n")[0])
+    ap.add_argument("--quick", action="store_true", help="one small unit, both solvers")
+    ap.add_argument("--validate", action="store_true", help="run the referee's validation checks")
+    ap.add_argument("--knobs", action="store_true", help="accuracy knobs: lmax, plane-wave cutoff, scalar grid")
+    ap.add_argument("--compute", type=float, default=0.0, metavar="SECONDS",
+                    help="compute missing vector units, starting new ones for at most this long")
+    ap.add_argument("--case", type=int, action="append", metavar="N",
+                    help="only case N of CASES (0-based; repeatable), e.g. to compute cases in parallel")
+    args = ap.parse_args(argv)
+    try:
+        import treams  # noqa: F401
+    except ImportError:
+        if args.validate or args.knobs or args.quick or args.compute > 0:
+            print("treams is not installed: pip install -e '.[vector]' (optional extra)", file=sys.stderr)
+            return 2
+        print("(treams not installed: showing cached vector units only)")
+    if args.validate:
+        from benchmarks.vector import validate
+        return validate.main()
+    if args.knobs:
+        from benchmarks.vector import validate
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return validate.knobs()
+    if args.quick:
+        return quick()
+    until = time.monotonic() + args.compute if args.compute > 0 else None
+    print(f"scalar solver polarisations: {', '.join(runs.scalar_polarisations())}; "
+          f"scalar grid voxel {runs.SCALAR_VOXEL_NM:.1f} nm, tol {runs.SCALAR_TOL:g}")
+    chosen = CASES if not args.case else [CASES[i] for i in args.case]
+    results = []
+    for case in chosen:
+        vec, sca, missing = units_of(case, compute_until=until)
+        out = print_case(case, vec, sca, missing)
+        results.append((case, (out or {}).get("ensembles")))
+    plot(results)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
