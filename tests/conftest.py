@@ -86,8 +86,6 @@ def diffuse_layer_table(lossless=True, n_lambda=9, n_angle=10, n_dphi=7, strengt
     where σ or θ is 0, as the convention requires), R_spec half a clear
     film's, Rbar = R_spec + ∫R (schema identity); lossless: Tbar = 1 − Rbar; else 80 % of it.
     """
-    import numpy as np
-
     from solver.inks import parse_ink
     from solver.table import InkTable, validate
     from solver.table.integrals import diffuse_albedo
