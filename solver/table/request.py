@@ -72,9 +72,9 @@ class WaveSettings:
 #: accuracy presets of particle inks (wave settings and wavelength step); docs/tables.md has
 #: each preset's measured colour error against `fine` and its cost
 ACCURACY = {
-    "preview": (WaveSettings(grid=(48, 48, 24), realizations=2), 40.0),
+    "preview": (WaveSettings(grid=(40, 40, 20), realizations=2), 40.0),
     "default": (WaveSettings(), PARTICLE_WAVELENGTH_STEP_NM),
-    "fine": (WaveSettings(grid=(96, 96, 48), realizations=8), 10.0),
+    "fine": (WaveSettings(grid=(80, 80, 40), realizations=6), 10.0),
 }
 #: the CLI name of each option, for messages
 OPTION = {"thickness_nm": "--thickness", "wavelengths_nm": "--wavelengths", "sigma_rad": "--angles",
