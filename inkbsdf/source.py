@@ -58,30 +58,14 @@ def set_build_workers(workers: int | None) -> None:
     _build_workers = workers
 
 
-def main_is_guarded() -> bool:
-    """False when the running script has no `if __name__ == "__main__":` guard: spawned pool
-    workers re-run a script's top level, so such a script must build in one process."""
-    import __main__
-    import re
-
-    path = getattr(__main__, "__file__", None)
-    if path is None:
-        return True                         # interactive: nothing is re-run in a spawned worker
-    try:
-        text = Path(path).read_text(errors="replace")
-    except OSError:
-        return True
-    return re.search(r"__name__\s*==\s*['\"]__main__['\"]", text) is not None
-
-
 def build_workers(props) -> int:
     """Worker processes for a table built during a scene load: the `workers` parameter, else
     `set_build_workers(...)`, else $INKBSDF_WORKERS, else 1 (in the loading process).
 
     Not one per core as for `ink-tables build`: workers are spawned, and spawning re-runs the
     calling script's top level; a script that loads a scene without an
-    `if __name__ == "__main__":` guard would load it again in every worker — detected, and
-    such a script builds in one process with a warning.
+    `if __name__ == "__main__":` guard would load it again in every worker — detected by the
+    executor, and such a script builds in one process with a warning.
     """
     if "workers" in props:
         workers = _prop(props, "workers")
@@ -97,12 +81,6 @@ def build_workers(props) -> int:
             raise TableError(f"$INKBSDF_WORKERS={text!r} is not an integer: set it to a number of "
                              "worker processes, e.g. 2") from None
         workers = max(1, workers)
-    if workers > 1 and not main_is_guarded():
-        import warnings
-
-        warnings.warn("inkbsdf: this script has no `if __name__ == \"__main__\":` guard, so table "
-                      "workers cannot be spawned safely; building in one process", stacklevel=2)
-        workers = 1
     return workers
 
 

@@ -126,3 +126,21 @@ def test_interrupted_build_stops_promptly_and_leaves_nothing(tmp_path, sig, code
     while process_group(proc.pid) and time.time() < deadline:
         time.sleep(0.05)
     assert not process_group(proc.pid)
+
+
+def test_a_script_without_main_guard_builds_in_one_process(tmp_path):
+    """Spawned workers re-run a script's top level: without a `__main__` guard that would build
+    again in every worker (a deadlock or a broken pool); detected, one process, a warning."""
+    script = tmp_path / "unguarded.py"
+    script.write_text(
+        "import numpy as np\n"
+        "from solver.table.builder import BuildOptions, build_table\n"
+        "from solver.table.cache import TableCache\n"
+        "from solver.table.request import table_request\n"
+        "req = table_request('Y7.5+B7.5', 'sphere:300', wavelengths_nm=(450.0, 650.0), grid=(16, 16, 8),\n"
+        "                    sigma_rad=tuple(np.radians([0.0, 40.0, 90.0])), realizations=2, tier='full')\n"
+        f"t = build_table(req, BuildOptions(workers=2, progress=False, cache=TableCache({str(tmp_path / 'c')!r})))\n"
+        "print('built', t.Rbar.shape)\n")
+    res = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=300)
+    assert res.returncode == 0, res.stderr
+    assert "built (2, 3)" in res.stdout and "guard" in res.stderr and "Traceback" not in res.stderr

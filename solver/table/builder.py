@@ -22,7 +22,7 @@ import numpy as np
 
 from . import tier_choice
 from .cache import TableCache
-from .executor import check_scheduler, default_workers, local_pool, run_units
+from .executor import check_scheduler, default_workers, local_pool, run_units, usable_workers
 from .meta import table_meta
 from .request import RequestError, TableRequest
 from .schema import InkTable
@@ -131,8 +131,8 @@ def pooled(opts: BuildOptions):
     """`opts` with a process pool that lives for the whole block (one spawn for all the
     stages of a build, or for all the tables of a figure); unchanged when no local pool is
     wanted (one worker, Dask) or one is running already."""
-    if opts.pool is not None or opts.scheduler or opts.workers <= 1:
-        yield opts
+    if opts.pool is not None or opts.scheduler or usable_workers(opts.workers) <= 1:
+        yield dataclasses.replace(opts, workers=1) if opts.pool is None and not opts.scheduler else opts
         return
     with local_pool(opts.workers) as pool:
         yield dataclasses.replace(opts, pool=pool)

@@ -17,8 +17,10 @@ import ctypes
 import logging
 import multiprocessing
 import os
+import re
 import signal
 import socket
+import warnings
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from typing import Any, Callable, Sequence
 from urllib.parse import urlparse
@@ -77,6 +79,30 @@ def _stop(pool: ProcessPoolExecutor) -> None:
             proc.kill()
     for proc in processes:
         proc.join(timeout=5)
+
+
+def main_is_guarded() -> bool:
+    """False when the running script has no `if __name__ == "__main__":` guard: spawned pool
+    workers re-run a script's top level (which would build again, recursively)."""
+    import __main__
+
+    path = getattr(__main__, "__file__", None)
+    if path is None:
+        return True                         # interactive: nothing is re-run in a spawned worker
+    try:
+        text = open(path, encoding="utf-8", errors="replace").read()
+    except OSError:
+        return True
+    return re.search(r"__name__\s*==\s*['\"]__main__['\"]", text) is not None
+
+
+def usable_workers(workers: int) -> int:
+    """`workers`, or 1 with a warning when the calling script cannot spawn workers safely."""
+    if workers > 1 and not main_is_guarded():
+        warnings.warn("inkbsdf: this script has no `if __name__ == \"__main__\":` guard, so table "
+                      "workers cannot be spawned safely; building in one process", stacklevel=3)
+        return 1
+    return workers
 
 
 @contextlib.contextmanager
@@ -144,7 +170,7 @@ def run_units(fn: Callable, units: Sequence[Any], *, workers: int = 1, scheduler
             _run_dask(fn, units, scheduler, done)
         elif pool is not None:
             _run_pool(fn, units, pool, done)
-        elif workers <= 1 or len(units) == 1:
+        elif usable_workers(workers) <= 1 or len(units) == 1:
             for i, unit in enumerate(units):
                 done(i, fn(unit))
         else:
