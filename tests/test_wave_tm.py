@@ -1,6 +1,7 @@
-"""TM polarisation at the layer's faces: u and ∂_z u/ε continuous (u = H_y), against the exact
-TM Airy formula written here; TM energy closure with real and complex ε_f; reciprocity;
-Brewster; hard cases.  The interior stays scalar (docs/wave_solver.md, "TM polarisation")."""
+"""TM polarisation at the layer's faces, against the exact TM Airy formula written here; TM
+energy closure with real and complex ε_f; reciprocity; Brewster; hard cases.  The interior
+stays scalar (docs/wave_solver.md, "TM polarisation"); the default face forms are the
+'brewster' preset (E_x / H_y / TE per harmonic, tests/test_wave_hybrid.py)."""
 from __future__ import annotations
 
 import math
@@ -9,7 +10,8 @@ import warnings
 import numpy as np
 import pytest
 
-from solver.wave import Cell, Incidence, bloch_vector, prepare, solve, solve_prepared
+from solver.wave import (TM_FACE_PRESETS, Cell, Incidence, bloch_vector, prepare, solve,
+                         solve_prepared)
 from solver.wave.oracles import random_spheres, sphere_fractions
 from solver.wave.validation import random_layer
 
@@ -112,14 +114,22 @@ def test_brewster_angle_of_a_clear_binder_film():
     assert near.R_spec > 1e-3
 
 
-def test_tm_with_face_equal_to_half_spaces_is_te():
-    """ε_f = ε_above = ε_below makes the TM face conditions the TE ones: identical results."""
+@pytest.mark.parametrize("preset", sorted(TM_FACE_PRESETS))
+def test_tm_with_face_equal_to_half_spaces_is_te(preset):
+    """ε_f = ε_above = ε_below makes every TM face form (H_y, E_x) the TE face: the same
+    powers; the 00 amplitudes equal up to the H_y sign convention of E_x faces (r_p = −r_s)."""
     cell = random_layer(1.4 + 0.1j, shape=(16, 16, 8))
     inc = Incidence(LAM, 0.4, 0.3)
-    te = solve(cell, inc, tol=1e-6)
-    tm = solve(cell, inc, tol=1e-6, polarisation="tm", eps_face=1.0)
-    assert np.array_equal(te.reflected.amplitude, tm.reflected.amplitude)
-    assert np.array_equal(te.transmitted.power, tm.transmitted.power)
+    te = solve(cell, inc, tol=1e-10, dtype=np.complex128)
+    tm = solve(cell, inc, tol=1e-10, dtype=np.complex128, polarisation="tm", eps_face=1.0,
+               tm_faces=preset)
+    for a, b in ((te.reflected, tm.reflected), (te.transmitted, tm.transmitted)):
+        assert np.allclose(a.power, b.power, rtol=1e-9, atol=1e-15)
+        assert np.allclose(np.abs(a.amplitude[a.propagating]), np.abs(b.amplitude[b.propagating]),
+                           rtol=1e-9, atol=1e-15)
+    sign = -1 if TM_FACE_PRESETS[preset].inner == "e" or TM_FACE_PRESETS[preset].mean == "e" else 1
+    assert tm.reflected.amp(0, 0) == pytest.approx(sign * te.reflected.amp(0, 0), abs=1e-12)
+    assert tm.absorbed == pytest.approx(te.absorbed, abs=1e-10)
 
 
 @pytest.mark.parametrize("sigma_deg", [0.0, 50.0])
@@ -153,16 +163,19 @@ def test_tm_and_te_differ_at_oblique_incidence():
     assert abs(te.R_spec - tm.R_spec) > 1e-3
 
 
-def test_reciprocity_of_tm_orders():
+@pytest.mark.parametrize("preset", ["all", "brewster", "electric"])
+def test_reciprocity_of_tm_orders(preset):
     """amp(a → b)·ε_a/k_z,a = amp(b̄ → ā)·ε_b/k_z,b (flux normalisation k_z/ε of TM waves):
     reflection within one medium (the TE relation) and transmission between unequal
-    half-spaces (where the ε factor matters: checked to fail without it)."""
+    half-spaces (where the ε factor matters: checked to fail without it), for face forms that
+    depend on |q| only (H_y; E_x amplitudes scaled by the flux factors, faces.py)."""
     base = random_layer(1.4 + 0.1j, shape=(24, 24, 12))
     eps_a, eps_c = 1.0, 1.33 ** 2
     cell = Cell(base.eps, base.period_nm, base.z_range_nm, eps_above=eps_a, eps_below=eps_c)
     k0 = 2 * math.pi / LAM
     sig_a, phi_a = 0.3, 0.4
-    res_a = solve(cell, Incidence(LAM, sig_a, phi_a), tol=1e-8, polarisation="tm")
+    res_a = solve(cell, Incidence(LAM, sig_a, phi_a), tol=1e-8, polarisation="tm",
+                  tm_faces=preset)
     kz_a = k0 * math.cos(sig_a)
     checked = 0
     for (m, n) in ((1, 0), (-1, 1), (0, -1)):
@@ -174,7 +187,7 @@ def test_reciprocity_of_tm_orders():
             eps_b = eps_a if side == "R" else eps_c
             back = Incidence(LAM, math.asin(math.hypot(kx, ky) / (k0 * math.sqrt(eps_b))),
                              math.atan2(ky, kx) + math.pi, from_below=(side == "T"))
-            res_b = solve(cell, back, tol=1e-8, polarisation="tm")
+            res_b = solve(cell, back, tol=1e-8, polarisation="tm", tm_faces=preset)
             other = res_b.reflected if side == "R" else res_b.transmitted
             j = other.index(m, n)
             assert abs(other.kx[j] + res_a.kx0) < 1e-12 and abs(other.ky[j] + res_a.ky0) < 1e-12
