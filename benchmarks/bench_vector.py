@@ -236,7 +236,7 @@ def main(argv: list[str] | None = None) -> int:
         chosen = CASES if not args.case else [CASES[i] for i in args.case]
         t0 = time.monotonic()
         faces_eval.evaluate(chosen)
-        faces_eval.physics_checks(CASES[0])
+        faces_eval.physics_checks(CASES[0], dense=CASES[2])
         print(f"\n--faces: {time.monotonic() - t0:.0f} s (scalar units cached in out/bench/vector/)")
         return 0
     until = time.monotonic() + args.compute if args.compute > 0 else None

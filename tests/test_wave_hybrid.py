@@ -229,3 +229,25 @@ def test_forms_used_per_harmonic():
     k_in = k0 * math.sqrt(3.0) * math.sin(1.2)                  # beyond √(Re ε_f/3)
     op = prepare(dense, LAM, k_in, 0.0, polarisation="tm", tm_faces="electric-mean")
     assert op.green.faces[1].form[0, 0] == FORMS.index("h")
+
+
+def test_local_field_permittivity_option():
+    """eps_grid(local_field=True): each pigment's ε replaced by the Clausius–Mossotti local-field
+    permittivity (written here), binder and air untouched; its volume mix is Maxwell Garnett to
+    first order in the fill (the dipole response the scalar contrast lacks)."""
+    from solver.materials import binder_eps, pigment_eps
+    layer = LayerSpec(parse_ink("Y15"), parse_particles("sphere:300"), thickness_nm=1000.0,
+                      cell_nm=(1000.0, 1000.0))
+    vox = voxelize(generate(layer, 5), (8, 8, 8))
+    lam = 450.0
+    e_h, e_p = complex(binder_eps(lam)), complex(pigment_eps("Y", lam))
+    e_lf = e_h + 3 * e_h * (e_p - e_h) / (e_p + 2 * e_h)
+    frac = dict(zip(vox.materials, vox.fractions))
+    diff = eps_grid(vox, lam, local_field=True) - eps_grid(vox, lam)
+    assert np.allclose(diff, frac["Y"] * (e_lf - e_p), atol=1e-12)
+    # absorbed power ∝ Im ε·|E_inside|²: Im ε' = Im ε_p·|3ε_h/(ε_p + 2ε_h)|² for a real binder ε
+    assert e_lf.imag / e_p.imag == pytest.approx(abs(3 * e_h / (e_p + 2 * e_h)) ** 2, rel=1e-9)
+    for f in (1e-2, 1e-3):
+        beta = (e_p - e_h) / (e_p + 2 * e_h)
+        mg = e_h * (1 + 2 * f * beta) / (1 - f * beta)
+        assert abs((1 - f) * e_h + f * e_lf - mg) < 5 * f ** 2 * abs(e_h)

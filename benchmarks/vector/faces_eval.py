@@ -154,7 +154,20 @@ def wood_jump(case: Case, preset: str, wavelength_nm: float = 470.0) -> tuple[fl
                        tm_faces=preset, dtype=np.complex128).R for d in (-1e-7, 1e-7, 0.01))
 
 
-def physics_checks(case: Case, presets=tuple(TM_FACE_PRESETS)) -> None:
+def brewster_jump(case: Case, wavelength_nm: float, preset: str = "brewster"
+                  ) -> tuple[complex, float, float]:
+    """(ε_f, R at σ_B − 1e-7, R at σ_B + 1e-7) on the case's cell (realization 0, scalar grid),
+    σ_B = asin √Re(ε_f/(ε_f + 1)): where the default switches the 00 harmonic from E_x to H_y."""
+    cell: Cell = runs.scalar_cell(case, 0, wavelength_nm)
+    ef = complex(np.mean(cell.eps))
+    sig_b = math.asin(math.sqrt((ef / (ef + 1)).real))
+    lo, hi = (solve(cell, Incidence(wavelength_nm, sig_b + d), tol=1e-7, polarisation="tm",
+                    tm_faces=preset, dtype=np.complex128).R for d in (-1e-7, 1e-7))
+    return ef, lo, hi
+
+
+def physics_checks(case: Case, presets=tuple(TM_FACE_PRESETS), dense: Case | None = None
+                   ) -> None:
     print("\n--- physics of the presets: ensemble reciprocity P(a→b)/P(b̄→ā) of reflected "
           "orders (12 random cells, 5 pairs; 1 = reciprocal) and R across a Wood anomaly "
           f"({case.label}, 470 nm, order (1, 0))")
@@ -164,3 +177,8 @@ def physics_checks(case: Case, presets=tuple(TM_FACE_PRESETS)) -> None:
         print(f"  {preset:21s}| reciprocity " + " ".join(f"{x:.3f}" for x in ratio) +
               f" | Wood: R {lo:.5f} → {hi:.5f} (jump {hi - lo:+.5f}; 0.01 rad further "
               f"{far - hi:+.5f})")
+    print("  'brewster' at Brewster's angle σ_B ± 1e-7 rad (its E_x → H_y switch of the 00 harmonic):")
+    for c, lam in [(case, 470.0), (case, 660.0)] + ([(dense, 470.0)] if dense else []):
+        ef, lo, hi = brewster_jump(c, lam)
+        print(f"    {c.label}, {lam:g} nm, ε_f = {ef.real:.3f}{ef.imag:+.3f}i: R {lo:.5f} → {hi:.5f} "
+              f"(jump {hi - lo:+.5f})")
