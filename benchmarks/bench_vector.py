@@ -34,9 +34,11 @@ COLOUR_WAVELENGTHS = (420.0, 470.0, 520.0, 580.0, 660.0)
 
 #: The comparison cases, cheapest first.  Cells are as large as the lattice sums allow on the
 #: 2-core VM (docs/vector_referee.md: cost ∝ pairs of spheres × (2·lmax + 1)²).
+#: The two colour cases have 3 and 2 realizations (docs/vector_referee.md, realization noise).
 CASES = (
-    Case(300.0, 0.15, 1000.0, COLOUR_WAVELENGTHS),
-    Case(100.0, 0.15, 500.0, (420.0, 470.0, 520.0, 660.0), pw_cutoff_per_nm=0.08),
+    Case(300.0, 0.15, 1000.0, COLOUR_WAVELENGTHS, realizations=3),
+    Case(100.0, 0.15, 500.0, (420.0, 470.0, 520.0, 660.0), pw_cutoff_per_nm=0.08,
+         realizations=2),
     Case(300.0, 0.50, 1000.0, (470.0, 550.0), polar_deg=(0.0,)),
     Case(100.0, 0.50, 400.0, (470.0, 550.0), polar_deg=(0.0,), pw_cutoff_per_nm=0.08),
 )
@@ -182,6 +184,8 @@ def plot(results, path=Path("out/bench/vector_spectra.png")) -> None:
             if np.all(np.isfinite(es.Rbar[..., 2])):
                 ax.plot(case.wavelengths_nm, compare.albedo_on_paper(es, 2)[:, j], "m" + ls,
                         label=f"scalar unpol. (TE+TM) {sig:g}°")
+                ax.plot(case.wavelengths_nm, compare.albedo_on_paper(el, 2)[:, j], "c" + ls,
+                        label=f"scalar unpol., local-field ε {sig:g}°")
         ax.set_title(case.label, fontsize=9)
         ax.set_xlabel("wavelength (nm)")
         ax.set_ylabel("ink on paper (r = 0.9): albedo, diffuse light")
