@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from solver.figures.cell_colour import cell_colour, lab_jacobian, node_errors, propagate_se
-from solver.figures.cells import CellResult, FigureSettings, build_cells, plan_cells
+from solver.figures.cells import CellResult, FigureSettings, plan_cells
 from solver.figures.estimate import estimate_seconds
 from solver.figures.fig6 import DPHI_SAMPLES, azimuth_averaged, figure6, pixel_angles_rad
 from solver.figures.layout import CellGeometry

@@ -23,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-from solver.table.builder import BuildOptions, build_table
+from solver.table.builder import BuildOptions
 from solver.table.executor import default_workers
 from solver.table.cache import TableCache
 from solver.table.evaluate import directional_albedo
@@ -84,7 +84,7 @@ def default_table(workers: int, baseline: str | None = PREVIOUS_ROUND) -> dict:
     print(f"  {solves} table solves (+ the tier probe's), {apps:.1f} operator applications per solve; "
           f"{per_solve:.3f} s per solve in a worker against {floor:.3f} s for the FFTs it performs "
           f"({per_solve / floor:.1f}×)")
-    print(f"  tier probe deviations from the full solve: "
+    print("  tier probe deviations from the full solve: "
           + ", ".join(f"{k} {v:.4f}" for k, v in meta["tier_probe"].get("deviation", {}).items()))
     print(f"  max standard error: Rbar {errors['Rbar_se_max']:.4f}, Tbar {errors['Tbar_se_max']:.4f}, "
           f"R_spec {errors['R_spec_se_max']:.4f} (target ≤ 0.011); energy closure {errors['energy_closure_max']:.1e}")

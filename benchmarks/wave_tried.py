@@ -5,8 +5,6 @@ benchmarks/bench_wave.py; the FFT libraries are measured only where they are ins
 from __future__ import annotations
 
 import importlib.util
-import math
-import time
 
 import numpy as np
 import scipy.fft as sfft
@@ -14,15 +12,7 @@ import scipy.fft as sfft
 from solver.wave import Cell, Incidence, bloch_vector, prepare, solve_prepared
 from solver.wave.fftback import fftw_available
 
-
-def _best_cpu(fn, repeats=20) -> float:
-    fn()
-    best = math.inf
-    for _ in range(repeats):
-        t = time.process_time()
-        fn()
-        best = min(best, time.process_time() - t)
-    return best
+from .wave_reference import best_cpu
 
 
 def _per_application(lateral, zfft, shape) -> float:
@@ -31,7 +21,7 @@ def _per_application(lateral, zfft, shape) -> float:
     nx, ny, nz = shape
     a = np.zeros((2, nx, ny, nz), np.complex64)
     b = np.zeros((2, nx, ny, 2 * nz), np.complex64)
-    return _best_cpu(lambda: (lateral(a, False), zfft(b, False), zfft(b, True),
+    return best_cpu(lambda: (lateral(a, False), zfft(b, False), zfft(b, True),
                               lateral(a, True)))
 
 
@@ -59,14 +49,14 @@ def fft_libraries(cell: Cell, wavelength: float, sigma: float) -> None:
         plans = [pyfftw.FFTW(x, x, axes=ax, direction=d, flags=("FFTW_MEASURE",), threads=1)
                  for x, ax in ((a, (1, 2)), (b, (3,)))
                  for d in ("FFTW_FORWARD", "FFTW_BACKWARD")]
-        ms["pyFFTW (planned, in place)"] = _best_cpu(lambda: [p() for p in plans])
+        ms["pyFFTW (planned, in place)"] = best_cpu(lambda: [p() for p in plans])
     for name, t in ms.items():
         print(f"{name:>28}: {1e3 * t:.2f} ms")
     kx0, ky0 = bloch_vector(cell, Incidence(wavelength, sigma))
 
     def solve_cpu(fft: str) -> float:
         op = prepare(cell, wavelength, kx0, ky0, workers=1, fft=fft)
-        return _best_cpu(lambda: solve_prepared(op, tol=1e-4), repeats=3)
+        return best_cpu(lambda: solve_prepared(op, tol=1e-4), repeats=3)
 
     for fft in ("scipy", "fftw") if fftw_available() else ("scipy",):
         print(f"{'solve, fft=' + repr(fft):>28}: {1e3 * solve_cpu(fft):.1f} ms")
@@ -101,4 +91,4 @@ def batched_rhs(cell: Cell, wavelength: float, sigma: float) -> None:
             sfft.ifft(f, axis=-1, workers=1, overwrite_x=True)
             sfft.ifft2(x, axes=(-3, -2), workers=1, overwrite_x=True)
 
-        print(f"{batch} right-hand side(s) per call: {1e3 * _best_cpu(run) / batch:.2f} ms")
+        print(f"{batch} right-hand side(s) per call: {1e3 * best_cpu(run) / batch:.2f} ms")

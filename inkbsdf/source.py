@@ -176,7 +176,8 @@ def _member_request(member):
 
 def stack_lut(members) -> InkLUT:
     """The table of an overprint (members top first) through the cache: an exact multilayer
-    film of the members' layers (inkbsdf.inks calls this for every overprint a scene can show)."""
+    film when every layer is molecular, else the wave solver over the stacked layers
+    (inkbsdf.inks calls this for every overprint a scene can show)."""
     from solver.table.builder import BuildOptions, get_or_build
     from solver.table.cache import TableCache
     from solver.table.request import table_request as make_request
@@ -184,16 +185,17 @@ def stack_lut(members) -> InkLUT:
     try:
         requests = [_member_request(m) for m in members]
         layers = tuple(layer for req in requests for layer in req.layers)
-        if any(not layer.molecular for layer in layers):
-            raise TableError(f"ink BSDF: the overprint {'/'.join(m.label for m in members)} has particle "
-                             "layers; overprints are exact multilayer films of molecular inks so far "
-                             "(print particle inks without overlapping coverage)")
-        stack = make_request(layers, polarisation=requests[0].polarisation, materials=requests[0].materials)
+        # molecular layers: an exact multilayer film; particle layers: the wave solver over the
+        # stacked geometry, at the accuracy of the first particle ink
+        accuracy = next((req.accuracy for req in requests if not req.molecular), "default")
+        stack = make_request(layers, polarisation=requests[0].polarisation, materials=requests[0].materials,
+                             accuracy=accuracy)
     except TableError:
         raise
     except ValueError as exc:
         raise TableError(f"ink BSDF: overprint {'/'.join(m.label for m in members)}: {exc}") from None
     cache_dir = next((m.params["cache"] for m in members if "cache" in m.params), None)
     cache = TableCache(Path(str(cache_dir))) if cache_dir else TableCache.default()
-    _, path, _ = get_or_build(stack, BuildOptions(cache=cache, workers=1, progress=False))
+    workers = build_workers(_Params(next((m.params for m in members if "workers" in m.params), {})))
+    _, path, _ = get_or_build(stack, BuildOptions(cache=cache, workers=workers, progress=False))
     return load_lut(path)

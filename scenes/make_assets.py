@@ -1,6 +1,6 @@
 """Generate the demo scenes and their textures from page layouts.
 
-    python scenes/make_assets.py          # writes scenes/*.xml, scenes/textures/*
+    .venv/bin/python scenes/make_assets.py   # writes scenes/*.xml, scenes/textures/* (the project installed)
 
 printed_page.xml: an A4 sheet (cm) with a colour chart of six ink patches (R30, Y30, B30, G30,
 the particle-free Y25+B5 mix and clear varnish), their labels, a title and a paragraph printed
@@ -30,8 +30,7 @@ from pathlib import Path
 import numpy as np
 
 HERE = Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE.parent))             # run as a script: the repository's packages
-from inkbsdf.pagescene import (A4_CM, CAMERA_EYE_CM, SOFTBOX_HEIGHT_CM, PATCH_LIFT_CM,  # noqa: E402,F401
+from inkbsdf.pagescene import (A4_CM, CAMERA_EYE_CM, SOFTBOX_HEIGHT_CM, PATCH_LIFT_CM,  # noqa: F401
                                Stage, bitmap_xml, ink_bsdf_xml, print_shape_xml, rect_transform,
                                scene_document, stage_xml, write_sky)
 

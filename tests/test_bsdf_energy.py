@@ -4,24 +4,18 @@ for both coverage models."""
 import numpy as np
 import pytest
 
-from conftest import surface_interaction
+from bsdf_probes import ink_bsdf, quadrature_albedo, sampled_albedo
 from inkbsdf.demo_tables import DEMO_INKS, build_tables
 from inkbsdf.lut import load_lut
+from oracles import CY, MD, reference_albedo
 from solver.table import read_table
 from solver.table.evaluate import directional_albedo as table_albedo
 
 
-CY, MD = "clapper-yule", "murray-davies"
-
-
-def ink_bsdf(mi, path, paper=0.9, coverage=1.0, model=CY):
-    return mi.load_dict({"type": "ink", "filename": str(path), "paper": paper, "coverage": coverage,
-                         "coverage_model": model})
-
-
-def directional_albedo(path, paper, coverage=1.0, model=MD):
-    """Exact total reflectance at the σ nodes. Murray–Davies: c·[R_spec + R_diff + r·Tbar·τ̄/(1−rρ̄)]
-    + (1−c)·r; Clapper–Yule: c·[R_spec + R_diff] + r·(c·Tbar + 1−c)(c·τ̄ + 1−c)/(1 − r·c·ρ̄)."""
+def lut_albedo(path, paper, coverage=1.0, model=MD):
+    """Total reflectance at the σ nodes from the plugin's load-time integrals (inkbsdf.lut) and
+    the NumPy evaluator. Murray–Davies: c·[R_spec + R_diff + r·Tbar·τ̄/(1−rρ̄)] + (1−c)·r;
+    Clapper–Yule: c·[R_spec + R_diff] + r·(c·Tbar + 1−c)(c·τ̄ + 1−c)/(1 − r·c·ρ̄)."""
     table = read_table(path)
     if model == MD:
         return coverage * table_albedo(table, paper, table.sigma) + (1.0 - coverage) * paper
@@ -34,49 +28,6 @@ def directional_albedo(path, paper, coverage=1.0, model=MD):
 
 FURNACE_ANGLES_DEG = (0.0, 20.0, 40.0, 60.0, 80.0)
 N_SAMPLES = 1 << 18
-
-
-def _wi(deg, n):
-    s = np.radians(deg)
-    return np.tile([[np.sin(s)], [0.0], [np.cos(s)]], (1, n))
-
-
-def sampled_albedo(mi, bsdf, deg, wavelengths):
-    """Mean and standard error of sample() weights: the directional albedo, estimated."""
-    import drjit as dr
-
-    n = wavelengths.shape[1]
-    si = surface_interaction(mi, _wi(deg, n), wavelengths)
-    rng = np.random.default_rng(int(deg * 10) + 1)
-    u = rng.random((3, n))
-    _, w = bsdf.sample(mi.BSDFContext(), si, mi.Float(u[0]), mi.Point2f(mi.Float(u[1]), mi.Float(u[2])))
-    w = np.array([np.asarray(w[j]) for j in range(dr.size_v(mi.Spectrum))])
-    assert np.all(np.isfinite(w)) and np.all(w >= 0)
-    per_lane = w.mean(axis=0)              # a lane's wavelengths share its direction: correlated
-    return per_lane.mean(), per_lane.std() / np.sqrt(per_lane.size)
-
-
-def quadrature_albedo(mi, bsdf, deg, wavelengths_nm, n_theta=720, n_phi=96):
-    """∫ eval dωo by the midpoint rule, plus the delta lobe's c·R_spec (from sampling with
-    the delta lobe only), per wavelength [4]."""
-    import drjit as dr
-
-    th = (np.arange(n_theta) + 0.5) * (np.pi / 2 / n_theta)
-    ph = (np.arange(n_phi) + 0.5) * (2 * np.pi / n_phi)
-    T, P = np.meshgrid(th, ph, indexing="ij")
-    wo = np.stack([np.sin(T) * np.cos(P), np.sin(T) * np.sin(P), np.cos(T)]).reshape(3, -1)
-    n = wo.shape[1]
-    lam = np.tile(np.asarray(wavelengths_nm, float)[:, None], (1, n))
-    si = surface_interaction(mi, _wi(deg, n), lam)
-    value = bsdf.eval(mi.BSDFContext(), si, mi.Vector3f(*[mi.Float(c) for c in wo]))
-    d_omega = (np.sin(T) * (np.pi / 2 / n_theta) * (2 * np.pi / n_phi)).ravel()
-    smooth = np.array([np.sum(np.asarray(value[j]) * d_omega) for j in range(4)])
-    ctx = mi.BSDFContext()
-    ctx.type_mask = +mi.BSDFFlags.DeltaReflection
-    si1 = surface_interaction(mi, _wi(deg, 1), lam[:, :1])
-    _, w = bsdf.sample(ctx, si1, mi.Float(0.5), mi.Point2f(0.5, 0.5))
-    delta = np.array([np.asarray(w[j])[0] for j in range(dr.size_v(mi.Spectrum))])
-    return smooth + delta
 
 
 @pytest.fixture(scope="module")
@@ -102,7 +53,7 @@ def test_white_furnace_by_sampling(use_variant, ink_tables, diffuse_tables, odd_
     path = {"clear": ink_tables["clear"], "clear_half_covered": ink_tables["clear"],
             "clear_odd": odd_grid_tables, "lossless": diffuse_tables["lossless"]}[which]
     coverage = 0.5 if which == "clear_half_covered" else 1.0
-    bsdf = ink_bsdf(mi, path, paper=1.0, coverage=coverage)
+    bsdf = ink_bsdf(mi, path, paper=1.0, coverage=coverage, model=CY)
     lam = np.random.default_rng(3).uniform(360.0, 830.0, size=(4, N_SAMPLES))
     mean, err = sampled_albedo(mi, bsdf, deg, lam)
     assert err < 4e-3
@@ -112,13 +63,13 @@ def test_white_furnace_by_sampling(use_variant, ink_tables, diffuse_tables, odd_
 @pytest.mark.parametrize("model", [CY, MD])
 @pytest.mark.parametrize("which", ["clear", "lossless", "absorbing", "R30"])
 def test_albedo_quadrature_matches_exact(use_variant, ink_tables, diffuse_tables, which, model):
-    """∫ eval dω + c·R_spec equals the closed form of the coverage model (directional_albedo)."""
+    """∫ eval dω + c·R_spec equals the closed form of the coverage model (the oracle)."""
     mi = use_variant("llvm_ad_spectral")
     path = {**ink_tables, **diffuse_tables}[which]
     lut = load_lut(path)
     paper, coverage = 0.8, 0.6
     bsdf = ink_bsdf(mi, path, paper=paper, coverage=coverage, model=model)
-    exact_nodes = directional_albedo(path, paper, coverage, model)
+    exact_nodes = reference_albedo(read_table(path), paper, coverage, model)
     lam_idx = np.round(np.linspace(1, lut.wavelengths_nm.size - 2, 4)).astype(int)
     for s_idx in (0, lut.sigma_rad.size // 3, (2 * lut.sigma_rad.size) // 3):
         deg = np.degrees(lut.sigma_rad[s_idx])
@@ -128,13 +79,17 @@ def test_albedo_quadrature_matches_exact(use_variant, ink_tables, diffuse_tables
 
 def test_exact_furnace_of_lossless_tables(ink_tables, diffuse_tables):
     """The load-time integrals make a lossless layer on white paper reflect 1 at every node,
-    at any coverage with either model."""
+    at any coverage with either model, and equal the oracle's closed form on any paper."""
     for path in (ink_tables["clear"], diffuse_tables["lossless"]):
         for coverage in (1.0, 0.5, 0.2):
             for model in (CY, MD):
-                albedo = directional_albedo(path, paper=1.0, coverage=coverage, model=model)
+                albedo = lut_albedo(path, paper=1.0, coverage=coverage, model=model)
                 np.testing.assert_allclose(albedo, 1.0, atol=1e-9)
-    assert directional_albedo(diffuse_tables["absorbing"], paper=1.0).max() < 0.99
+    assert lut_albedo(diffuse_tables["absorbing"], paper=1.0).max() < 0.99
+    for path in (ink_tables["R30"], diffuse_tables["absorbing"]):
+        for model in (CY, MD):
+            np.testing.assert_allclose(lut_albedo(path, 0.8, 0.6, model),
+                                       reference_albedo(read_table(path), 0.8, 0.6, model), atol=1e-9)
 
 
 @pytest.mark.parametrize("ink", DEMO_INKS + ("B50", "R15+Y15+B15"))
@@ -144,8 +99,8 @@ def test_energy_at_most_one(use_variant, tmp_path, ink):
     path = build_tables(tmp_path, [ink])[ink]
     for paper, coverage in ((1.0, 1.0), (0.9, 1.0), (1.0, 0.5)):
         for model in (CY, MD):
-            assert directional_albedo(path, paper, coverage, model).max() <= 1.0 + 1e-9
-        bsdf = ink_bsdf(mi, path, paper=paper, coverage=coverage)
+            assert lut_albedo(path, paper, coverage, model).max() <= 1.0 + 1e-9
+        bsdf = ink_bsdf(mi, path, paper=paper, coverage=coverage, model=CY)
         lam = np.random.default_rng(5).uniform(360.0, 830.0, size=(4, 1 << 15))
         for deg in (0.0, 45.0, 85.0):
             mean, err = sampled_albedo(mi, bsdf, deg, lam)

@@ -2,22 +2,15 @@
 
 import numpy as np
 
-from conftest import ink_bsdf, surface_interaction
-
-
-def _spec(mi, x):
-    return np.array([np.asarray(x[j]) for j in range(4)])
+from bsdf_probes import as_numpy, hemisphere, ink_bsdf, surface_interaction, vector
 
 
 def _setup(mi, n=512, seed=0):
     rng = np.random.default_rng(seed)
-    wi, wo = rng.normal(size=(2, 3, n))
-    wi /= np.linalg.norm(wi, axis=0)
-    wo /= np.linalg.norm(wo, axis=0)
-    wi[2], wo[2] = np.abs(wi[2]), np.abs(wo[2])
+    wi, wo = hemisphere(rng, n), hemisphere(rng, n)
     si = surface_interaction(mi, wi, rng.uniform(360, 830, size=(4, n)))
     si.uv = mi.Point2f(mi.Float(rng.random(n)), mi.Float(rng.random(n)))
-    return si, mi.Vector3f(*[mi.Float(c) for c in wo])
+    return si, vector(mi, wo)
 
 
 def test_bare_paper_is_the_builtin_diffuse(use_variant, ink_tables):
@@ -28,7 +21,7 @@ def test_bare_paper_is_the_builtin_diffuse(use_variant, ink_tables):
     ref = mi.load_dict({"type": "diffuse", "reflectance": paper})
     si, wo = _setup(mi)
     ctx = mi.BSDFContext()
-    np.testing.assert_allclose(_spec(mi, ink.eval(ctx, si, wo)), _spec(mi, ref.eval(ctx, si, wo)),
+    np.testing.assert_allclose(as_numpy(mi, ink.eval(ctx, si, wo)), as_numpy(mi, ref.eval(ctx, si, wo)),
                                rtol=1e-5, atol=1e-7)
     np.testing.assert_allclose(np.asarray(ink.pdf(ctx, si, wo)), np.asarray(ref.pdf(ctx, si, wo)), rtol=1e-5)
 
@@ -40,19 +33,19 @@ def test_traverse_exposes_paper_and_coverage(use_variant, ink_tables):
     assert "paper.value" in params and "coverage.value" in params
     si, wo = _setup(mi)
     ctx = mi.BSDFContext()
-    full = _spec(mi, bsdf.eval(ctx, si, wo))
+    full = as_numpy(mi, bsdf.eval(ctx, si, wo))
     params["coverage.value"] = 0.0
     params.update()
-    bare = _spec(mi, bsdf.eval(ctx, si, wo))
+    bare = as_numpy(mi, bsdf.eval(ctx, si, wo))
     cos_o = np.asarray(wo[2])
     np.testing.assert_allclose(bare, np.broadcast_to(0.9 / np.pi * cos_o, bare.shape), rtol=1e-5)
     assert np.max(np.abs(full - bare)) > 0.01
     params["coverage.value"] = 0.25
     params["paper.value"] = 0.5
     params.update()
-    quarter = _spec(mi, bsdf.eval(ctx, si, wo))
+    quarter = as_numpy(mi, bsdf.eval(ctx, si, wo))
     half_paper = ink_bsdf(mi, ink_tables["G30"], paper=0.5, coverage=0.25)
-    np.testing.assert_allclose(quarter, _spec(mi, half_paper.eval(ctx, si, wo)), rtol=1e-5)
+    np.testing.assert_allclose(quarter, as_numpy(mi, half_paper.eval(ctx, si, wo)), rtol=1e-5)
 
 
 def test_coverage_texture(use_variant, ink_tables, tmp_path):
@@ -67,9 +60,9 @@ def test_coverage_texture(use_variant, ink_tables, tmp_path):
     si, wo = _setup(mi, seed=3)
     u = np.asarray(si.uv.x)
     ctx = mi.BSDFContext()
-    got = _spec(mi, textured.eval(ctx, si, wo))
-    full = _spec(mi, ink_bsdf(mi, path, coverage=1.0).eval(ctx, si, wo))
-    bare = _spec(mi, ink_bsdf(mi, path, coverage=0.0).eval(ctx, si, wo))
+    got = as_numpy(mi, textured.eval(ctx, si, wo))
+    full = as_numpy(mi, ink_bsdf(mi, path, coverage=1.0).eval(ctx, si, wo))
+    bare = as_numpy(mi, ink_bsdf(mi, path, coverage=0.0).eval(ctx, si, wo))
     right, left = u > 0.51, u < 0.49
     np.testing.assert_allclose(got[:, right], full[:, right], rtol=1e-5)
     np.testing.assert_allclose(got[:, left], bare[:, left], rtol=1e-5)

@@ -3,44 +3,10 @@ the delta lobe's weight and probability, and the context's lobe selection."""
 
 import numpy as np
 import pytest
-from scipy.interpolate import RegularGridInterpolator
 
-from conftest import surface_interaction
-from inkbsdf.lut import load_lut
-
-
-def chi2_adapter(mi, bsdf, wi, wavelengths_nm, ctx=None):
-    """Like mitsuba.chi2.BSDFAdapter, but with si.wavelengths set to real wavelengths (nm) and
-    delta-lobe samples given weight 0 (the histogram then holds the smooth part, as pdf())."""
-    import drjit as dr
-
-    ctx = mi.BSDFContext() if ctx is None else ctx
-
-    def make_si(n):
-        si = dr.zeros(mi.SurfaceInteraction3f, n)
-        si.wi = mi.Vector3f(*[float(x) for x in wi])
-        si.wavelengths = mi.Spectrum(*[float(x) for x in wavelengths_nm])
-        si.sh_frame = mi.Frame3f(mi.Vector3f(0, 0, 1))
-        return si
-
-    def sample(u, *args):
-        bs, weight = bsdf.sample(ctx, make_si(dr.width(u)), u[0], mi.Vector2f(u[1], u[2]))
-        smooth = mi.has_flag(bs.sampled_type, mi.BSDFFlags.Smooth)
-        keep = smooth & dr.any(weight != 0)
-        return bs.wo, dr.select(keep, mi.Float(1.0), mi.Float(0.0))
-
-    def pdf(wo, *args):
-        return bsdf.pdf(ctx, make_si(dr.width(wo)), wo)
-
-    return sample, pdf
-
-
-CY, MD = "clapper-yule", "murray-davies"
-
-
-def ink_bsdf(mi, path, paper=0.9, coverage=1.0, model=CY):
-    return mi.load_dict({"type": "ink", "filename": str(path), "paper": paper, "coverage": coverage,
-                         "coverage_model": model})
+from bsdf_probes import as_numpy, chi2_adapter, draw, ink_bsdf, sample_consistency, surface_interaction, vector
+from oracles import CY, MD, reference_delta
+from solver.table import read_table
 
 
 CHI2_CASES = [  # (ink, incidence °, wavelengths nm, paper, coverage, coverage model)
@@ -69,46 +35,10 @@ def test_chi2_sample_vs_pdf(use_variant, ink_tables, diffuse_tables, ink, deg, w
                          sample_dim=3, sample_count=400_000, res=61, seed=int(deg))
     assert chi2.run(significance_level=0.01, test_count=len(CHI2_CASES), quiet=True), chi2.messages
     # The smooth part holds 1 − P_spec of the samples (P_spec computed independently).
-    p_spec, _ = reference_delta(path, np.array(wavelengths)[:, None], deg, paper, coverage, model)
+    p_spec, _ = reference_delta(read_table(path), np.array(wavelengths)[:, None], deg, paper, coverage, model)
     assert 0.01 < p_spec[0] < 0.99
     assert abs(float(chi2.pdf_sum[0]) - (1.0 - p_spec[0])) < 2e-3
     assert abs(float(chi2.histogram_sum[0]) - (1.0 - p_spec[0])) < 5e-3
-
-
-def _draw(mi, bsdf, deg, n, seed, ctx=None):
-    import drjit as dr
-
-    rng = np.random.default_rng(seed)
-    s = np.radians(deg)
-    wi = np.tile([[np.sin(s)], [0.0], [np.cos(s)]], (1, n))
-    lam = rng.uniform(360.0, 830.0, size=(4, n))
-    si = surface_interaction(mi, wi, lam)
-    u = rng.random((3, n))
-    ctx = mi.BSDFContext() if ctx is None else ctx
-    bs, w = bsdf.sample(ctx, si, mi.Float(u[0]), mi.Point2f(mi.Float(u[1]), mi.Float(u[2])))
-    weight = np.array([np.asarray(w[j]) for j in range(dr.size_v(mi.Spectrum))])
-    return si, bs, weight, lam, wi
-
-
-def reference_delta(path, lam, deg, paper, coverage, model=CY):
-    """(P_spec [n], delta-lobe weight c·R_spec/P_spec [4, n]) from the table with SciPy; the
-    smooth albedo is c·R_diff + the paper term of the coverage model (Murray–Davies:
-    c·r·T̄τ̄/(1 − rρ̄) + (1 − c)·r; Clapper–Yule: r·(cT̄ + 1 − c)(cτ̄ + 1 − c)/(1 − rcρ̄))."""
-    lut = load_lut(path)
-    wl = lut.wavelengths_nm
-    lam = np.clip(lam, wl[0], wl[-1])
-    pts = (lam, np.full(lam.shape, np.radians(deg)))
-    col = {k: RegularGridInterpolator((wl, lut.sigma_rad), getattr(lut, k))(pts)
-           for k in ("R_spec", "Tbar", "R_diff")}
-    rho, tau = np.interp(lam, wl, lut.rho_bar), np.interp(lam, wl, lut.tau_bar)
-    spec = coverage * col["R_spec"]
-    c = coverage
-    if model == MD:
-        diffuse = c * (col["R_diff"] + paper * col["Tbar"] * tau / (1 - paper * rho)) + (1 - c) * paper
-    else:
-        diffuse = c * col["R_diff"] + paper * (c * col["Tbar"] + 1 - c) * (c * tau + 1 - c) / (1 - paper * c * rho)
-    p_spec = spec.mean(axis=0) / (spec + diffuse).mean(axis=0)
-    return p_spec, spec / p_spec
 
 
 @pytest.mark.parametrize("ink,deg,model", [("clear", 20.0, CY), ("G30", 65.0, CY), ("absorbing", 50.0, CY),
@@ -117,37 +47,26 @@ def test_sample_weights(use_variant, ink_tables, diffuse_tables, ink, deg, model
     """Diffuse samples: weight = eval/pdf and bs.pdf = pdf(); delta samples: mirror direction,
     weight c·R_spec/P_spec and bs.pdf = P_spec, P_spec from an independent evaluation."""
     mi = use_variant("llvm_ad_spectral")
-    import drjit as dr
-
     path = {**ink_tables, **diffuse_tables}[ink]
     paper, coverage = 0.85, 0.8
     bsdf = ink_bsdf(mi, path, paper, coverage, model)
-    si, bs, weight, lam, wi = _draw(mi, bsdf, deg, 1 << 14, seed=11)
-    delta = np.asarray(mi.has_flag(bs.sampled_type, mi.BSDFFlags.Delta))
+    got = sample_consistency(mi, bsdf, deg, 1 << 14, seed=11)
+    delta, d = got.delta, ~got.delta
     assert 0.01 < delta.mean() < 0.9
-    value, pdf = bsdf.eval_pdf(mi.BSDFContext(), si, bs.wo)
-    value = np.array([np.asarray(value[j]) for j in range(dr.size_v(mi.Spectrum))])
-    pdf, bs_pdf = np.asarray(pdf), np.asarray(bs.pdf)
-    d = ~delta
-    np.testing.assert_allclose(bs_pdf[d], pdf[d], rtol=1e-5)
-    np.testing.assert_allclose(weight[:, d], value[:, d] / pdf[d], rtol=1e-4, atol=1e-7)
-    np.testing.assert_allclose(np.asarray(bsdf.pdf(mi.BSDFContext(), si, bs.wo))[d], pdf[d], rtol=1e-6)
-    wo = np.array([np.asarray(bs.wo[k]) for k in range(3)])
-    np.testing.assert_allclose(wo[:, delta], (wi * [[-1], [-1], [1]])[:, delta], atol=1e-6)
-    p_spec, w_spec = reference_delta(path, lam, deg, paper, coverage, model)
-    np.testing.assert_allclose(bs_pdf[delta], p_spec[delta], rtol=2e-4)
-    np.testing.assert_allclose(weight[:, delta], w_spec[:, delta], rtol=5e-4)
-    np.testing.assert_allclose(pdf[d], (1 - p_spec[d]) * wo[2, d] / np.pi, rtol=3e-4)
+    p_spec, w_spec = reference_delta(read_table(path), got.lam, deg, paper, coverage, model)
+    np.testing.assert_allclose(got.sample_pdf[delta], p_spec[delta], rtol=2e-4)
+    np.testing.assert_allclose(got.weight[:, delta], w_spec[:, delta], rtol=5e-4)
+    np.testing.assert_allclose(got.pdf[d], (1 - p_spec[d]) * got.wo[2, d] / np.pi, rtol=3e-4)
 
 
 def test_context_selects_lobes(use_variant, ink_tables):
     mi = use_variant("llvm_ad_spectral")
     path = ink_tables["Y30"]
-    bsdf = ink_bsdf(mi, path, 0.9, 1.0)
+    bsdf = ink_bsdf(mi, path, 0.9, 1.0, CY)
     n, deg = 4096, 40.0
     only_diffuse = mi.BSDFContext()
     only_diffuse.type_mask = +mi.BSDFFlags.DiffuseReflection
-    si, bs, w, lam, wi = _draw(mi, bsdf, deg, n, 1, only_diffuse)
+    si, bs, w, lam, wi = draw(mi, bsdf, deg, n, 1, only_diffuse)
     assert not np.any(np.asarray(mi.has_flag(bs.sampled_type, mi.BSDFFlags.Delta)))
     cos_o = np.asarray(bs.wo[2])
     np.testing.assert_allclose(np.asarray(bs.pdf), cos_o / np.pi, rtol=1e-5)
@@ -155,20 +74,19 @@ def test_context_selects_lobes(use_variant, ink_tables):
 
     only_delta = mi.BSDFContext()
     only_delta.component = 0                       # component 0: the specular (delta) lobe
-    si, bs, w, lam, wi = _draw(mi, bsdf, deg, n, 2, only_delta)
+    si, bs, w, lam, wi = draw(mi, bsdf, deg, n, 2, only_delta)
     assert np.all(np.asarray(mi.has_flag(bs.sampled_type, mi.BSDFFlags.DeltaReflection)))
     np.testing.assert_allclose(np.asarray(bs.pdf), 1.0)
-    p_spec, w_spec = reference_delta(path, lam, deg, 0.9, 1.0)
+    p_spec, w_spec = reference_delta(read_table(path), lam, deg, 0.9, 1.0)
     np.testing.assert_allclose(w, w_spec * p_spec, rtol=5e-4)          # c·R_spec, no division
     assert np.all(np.asarray(bsdf.pdf(only_delta, si, bs.wo)) == 0.0)
-    value = bsdf.eval(only_delta, si, bs.wo)
-    assert all(np.all(np.asarray(value[j]) == 0.0) for j in range(4))
+    assert np.all(as_numpy(mi, bsdf.eval(only_delta, si, bs.wo)) == 0.0)
 
 
 def test_below_surface_gives_zero(use_variant, ink_tables):
     mi = use_variant("llvm_ad_spectral")
-    bsdf = ink_bsdf(mi, ink_tables["R30"])
-    si, bs, w, lam, wi = _draw(mi, bsdf, 120.0, 256, 3)            # ωi below the sheet
+    bsdf = ink_bsdf(mi, ink_tables["R30"], model=CY)
+    si, bs, w, lam, wi = draw(mi, bsdf, 120.0, 256, 3)            # ωi below the sheet
     assert np.all(w == 0.0) and np.all(np.isfinite(w))
     assert np.all(np.asarray(bs.pdf) == 0.0)
 
@@ -176,8 +94,6 @@ def test_below_surface_gives_zero(use_variant, ink_tables):
 def test_extreme_inputs_are_finite(use_variant, ink_tables, diffuse_tables):
     """Grazing and vertical directions, far-out wavelengths, paper 0 or 1: never NaN or Inf."""
     mi = use_variant("llvm_ad_spectral")
-    import drjit as dr
-
     cos_i = np.array([1.0, 1e-7, 0.0, 1e-3, 0.5, 1.0 - 1e-7, -1e-7, 0.3])
     sin_i = np.sqrt(np.clip(1 - cos_i**2, 0, None))
     wi = np.stack([sin_i, np.zeros_like(sin_i), cos_i])
@@ -190,7 +106,7 @@ def test_extreme_inputs_are_finite(use_variant, ink_tables, diffuse_tables):
             si = surface_interaction(mi, wi, lam)
             for u in (0.0, 1.0 - 1e-7):
                 bs, w = bsdf.sample(mi.BSDFContext(), si, mi.Float(np.full(n, u)), mi.Point2f(u, u))
-                f, p = bsdf.eval_pdf(mi.BSDFContext(), si, mi.Vector3f(*[mi.Float(c) for c in wo]))
+                f, p = bsdf.eval_pdf(mi.BSDFContext(), si, vector(mi, wo))
                 for arr in (w, f):
-                    assert all(np.all(np.isfinite(np.asarray(arr[j]))) for j in range(dr.size_v(mi.Spectrum)))
+                    assert np.all(np.isfinite(as_numpy(mi, arr, n)))
                 assert np.all(np.isfinite(np.asarray(p))) and np.all(np.isfinite(np.asarray(bs.pdf)))

@@ -6,6 +6,7 @@ import sys
 import numpy as np
 import pytest
 
+from conftest import run_main
 from solver.cli import main
 from solver.table.request import wavelength_range
 from solver.table import read_table
@@ -27,15 +28,26 @@ def test_build_and_show(tmp_path, capsys):
     assert plot.stat().st_size > 0
 
 
+@pytest.mark.parametrize("args, words", [
+    (["build", "--ink", "Q5", "-o", "x.npz"], "unknown pigment 'Q'"),
+    (["build", "--ink", "R5", "--thickness", "0", "-o", "x.npz"], "thickness"),
+    (["build", "--ink", "R70+Y40", "-o", "x.npz"], "exceeds 100%"),
+    (["show", "missing.npz"], "not found"),
+])
+def test_bad_input_is_one_line(tmp_path, monkeypatch, capsys, args, words):
+    monkeypatch.chdir(tmp_path)
+    status, _, err = run_main(main, args, capsys)
+    assert status == 2, err
+    assert words in err and err.count("\n") == 1, err
+    assert not (tmp_path / "x.npz").exists()
+
+
 def test_console_script_reports_bad_input(tmp_path):
-    exe = [sys.executable, "-m", "solver.cli"]
-    for args, words in ((["build", "--ink", "Q5", "-o", str(tmp_path / "x.npz")], "unknown pigment 'Q'"),
-                        (["build", "--ink", "R5", "--thickness", "0", "-o", str(tmp_path / "x.npz")], "thickness"),
-                        (["build", "--ink", "R70+Y40", "-o", str(tmp_path / "x.npz")], "exceeds 100%"),
-                        (["show", str(tmp_path / "missing.npz")], "not found")):
-        res = subprocess.run(exe + args, capture_output=True, text=True)
-        assert res.returncode == 2, res.stderr
-        assert words in res.stderr and res.stderr.count("\n") == 1, res.stderr
+    """The installed entry point: exit 2, one line on stderr."""
+    res = subprocess.run([sys.executable, "-m", "solver.cli", "build", "--ink", "Q5", "-o", str(tmp_path / "x.npz")],
+                         capture_output=True, text=True)
+    assert res.returncode == 2, res.stderr
+    assert "unknown pigment 'Q'" in res.stderr and res.stderr.count("\n") == 1, res.stderr
 
 
 def test_wavelength_range():

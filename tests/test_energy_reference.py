@@ -7,8 +7,8 @@ import pytest
 from solver.colour import linear_srgb_to_lab, reflectance_to_srgb8, reflectance_to_xyz
 from solver.inks import parse_ink
 from solver.table.evaluate import diffuse_brdf, directional_albedo
+from conftest import PAPER_INKS
 from solver.table.thinfilm_tier import build_thinfilm_table
-from test_inks_materials import PAPER_INKS
 
 WL = np.arange(380.0, 781.0, 20.0)
 SIGMA = np.linspace(0, np.pi / 2, 46)

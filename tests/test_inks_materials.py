@@ -3,12 +3,9 @@
 import numpy as np
 import pytest
 
+from conftest import PAPER_INKS
 from solver.inks import InkSpecError, molecular_eps, parse_ink
 from solver.materials import BINDER_INDEX, pigment_eps, pigment_k
-
-PAPER_INKS = ["R15", "Y15", "Y12.5+B2.5", "Y7.5+B7.5", "G15", "Y2.5+B12.5", "B15", "R30", "Y30",
-              "Y25+B5", "Y15+B15", "G30", "Y5+B25", "B30", "R50", "Y50", "Y42+B8", "Y25+B25", "G50",
-              "Y8+B42", "B50"]
 
 
 @pytest.mark.parametrize("spec", PAPER_INKS)

@@ -9,6 +9,8 @@ import numpy as np
 import pytest
 
 import solver.figures.cells as cells_mod
+from conftest import run_main
+from oracles import airy_slab
 from solver.cli import main
 from solver.figures.cells import FigureSettings, across_particles, build_cells, plan_cells
 from solver.figures.draw import RULE_GREY
@@ -181,12 +183,9 @@ def test_across_cylinders_use_the_smallest_reaching_tilt(tmp_path, monkeypatch):
 
 
 def film_transmittance(ink: str, wl_nm: np.ndarray, thickness_nm: float = 1000.0) -> np.ndarray:
-    """Airy transmittance of an absorbing slab in air at normal incidence (independent oracle)."""
+    """Airy transmittance of an absorbing slab in air at normal incidence (oracles.airy_slab)."""
     n = np.sqrt(molecular_eps(parse_ink(ink), wl_nm))
-    r01, r12 = (1 - n) / (1 + n), (n - 1) / (n + 1)
-    t01, t12 = 2 / (1 + n), 2 * n / (n + 1)
-    phase = np.exp(1j * 2 * np.pi / wl_nm * n * thickness_nm)
-    return np.abs(t01 * t12 * phase / (1 + r01 * r12 * phase ** 2)) ** 2
+    return airy_slab(1.0, n, 1.0, thickness_nm, wl_nm, 0.0)[3]
 
 
 def test_fig9_molecular_curves_are_the_film_transmittance(tmp_path):
@@ -215,15 +214,16 @@ def test_fig9_molecular_curves_are_the_film_transmittance(tmp_path):
     (["--grid", "2", "2", "2"], "--grid"),
     (["--workers", "2", "--scheduler", "tcp://127.0.0.1:1"], "exclude each other"),
 ])
-def test_bad_input_is_one_line_before_any_work(tmp_path, args, words):
-    res = subprocess.run([sys.executable, "-m", "solver.cli", "paper", "fig8", "--cache", str(tmp_path / "c"),
-                          "-o", str(tmp_path / "x.png"), *args], capture_output=True, text=True)
-    assert res.returncode == 2, res.stderr
-    assert words in res.stderr and res.stderr.count("\n") == 1, res.stderr
+def test_bad_input_is_one_line_before_any_work(tmp_path, capsys, args, words):
+    status, _, err = run_main(main, ["paper", "fig8", "--cache", tmp_path / "c", "-o", tmp_path / "x.png", *args],
+                              capsys)
+    assert status == 2, err
+    assert words in err and err.count("\n") == 1, err
     assert not (tmp_path / "c" / "tables").exists() or not any((tmp_path / "c" / "tables").iterdir())
 
 
 def test_output_must_be_a_png(tmp_path):
+    """As the installed command: exit 2, one line."""
     res = subprocess.run([sys.executable, "-m", "solver.cli", "paper", "fig9", "-o", str(tmp_path / "x.jpg")],
                          capture_output=True, text=True)
-    assert res.returncode == 2 and ".png" in res.stderr
+    assert res.returncode == 2 and ".png" in res.stderr and res.stderr.count("\n") == 1, res.stderr

@@ -1,11 +1,11 @@
 """Thin-film tables under unpolarised light, TE-only tables, and tables of layer stacks, against
-oracles written here (the Airy formula with explicit Fresnel r_s, r_p; the characteristic
-matrix of test_polarisation_thinfilm)."""
+the oracles of oracles.py (the Airy formula with explicit Fresnel r_s, r_p; the characteristic
+matrix)."""
 
 import numpy as np
 import pytest
-from test_polarisation_thinfilm import abeles
 
+from oracles import abeles, airy_slab
 from solver.inks import molecular_eps, parse_ink
 from solver.table import read_table, write_table
 from solver.table.thinfilm_tier import build_stack_table, build_thinfilm_table
@@ -15,21 +15,11 @@ SIGMA = np.linspace(0.0, np.pi / 2, 19)
 
 
 def airy_film(eps, d, wl, sigma):
-    """{s, p}: (r, R, T) of a film in air: Airy with the textbook Fresnel coefficients,
-    r_s = (cos θi − n cos θt)/(cos θi + n cos θt), r_p = (n cos θi − cos θt)/(n cos θi + cos θt)
-    (H-field / Verdet sign), film → air faces r' = −r, t·t' from the same expressions."""
-    n = np.sqrt(eps + 0j)
-    ci = np.cos(sigma)
-    ct = np.sqrt(1 - (np.sin(sigma) / n) ** 2)
-    ct = np.where((n * ct).imag < 0, -ct, ct)
-    phase = np.exp(2j * np.pi / wl * n * ct * d)
+    """{s, p}: (r, R, T) of a film of permittivity ε in air (oracles.airy_slab; p: H-field sign)."""
     out = {}
-    for pol, (a, b) in {"s": (ci, n * ct), "p": (n * ci, ct)}.items():
-        r01 = (a - b) / (a + b)
-        tt = (2 * a / (a + b)) * (2 * b / (a + b))      # t01·t10 (air on both sides: flux ratio 1)
-        den = 1 - r01**2 * phase**2
-        r = r01 * (1 - phase**2) / den
-        out[pol] = (r, abs(r) ** 2, abs(tt * phase / den) ** 2)
+    for name, pol in (("s", "te"), ("p", "tm")):
+        r, _, R, T = airy_slab(1.0, np.sqrt(eps + 0j), 1.0, d, wl, sigma, pol)
+        out[name] = (r, R, T)
     return out
 
 

@@ -8,11 +8,12 @@ import dataclasses
 import numpy as np
 import pytest
 
+from bsdf_probes import (POLARIZED, albedo_estimate, at_polar_angles, compare_with_spectral, delta_sample,
+                         random_lanes, run_bsdf, run_bsdf_lanewise, sample_weights)
 from conftest import diffuse_layer_table
 from solver.table import validate, write_table
 from solver.table.builder import build_table
 from solver.table.request import table_request
-from test_polarized_mirror import POLARIZED, as_numpy, compare_with_spectral, delta_sample, directions, interaction
 
 
 def polarized_diffuse_table(lossless: bool):
@@ -64,18 +65,10 @@ def test_white_furnace_on_m00(use_variant, tables, which, coverage):
     mi = use_variant(POLARIZED)
     bsdf = mi.load_dict({"type": "ink", "filename": str(tables[which]), "paper": 1.0, "coverage": coverage})
     rng = np.random.default_rng(7)
-    n = 40000
     for deg in (0.0, 40.0, 75.0):
-        wi = directions(np.full(n, deg), rng)
-        lam = rng.uniform(360.0, 830.0, (4, n))
-        u = rng.random((3, n))
-        _, w = bsdf.sample(mi.BSDFContext(), interaction(mi, wi, lam), mi.Float(u[0]),
-                           mi.Point2f(mi.Float(u[1]), mi.Float(u[2])))
-        w = as_numpy(mi, w)
-        assert np.all(np.isfinite(w))
-        per_lane = w[0, 0].mean(axis=0)
-        err = per_lane.std() / np.sqrt(n)
-        assert err < 4e-3 and abs(per_lane.mean() - 1.0) < 4.5 * err + 1e-4, (deg, per_lane.mean(), err)
+        w = sample_weights(mi, bsdf, deg, rng.uniform(360.0, 830.0, (4, 40000)))
+        mean, err = albedo_estimate(w)
+        assert err < 4e-3 and abs(mean - 1.0) < 4.5 * err + 1e-4, (deg, mean, err)
         assert np.all(pure_defect(w) >= -1e-5 * np.maximum(w[0, 0], 1.0) ** 2), deg
 
 
@@ -94,7 +87,7 @@ def test_overprints_mix_mueller_matrices(use_variant, tables):
              (0, 1): {"ink": "Y30/R30", "polarisation": "unpolarised"}}
     weight = {(0,): c1 * (1 - c2), (1,): (1 - c1) * c2, (0, 1): c1 * c2}
     rng = np.random.default_rng(29)
-    wi = directions(rng.choice(np.arange(0.0, 85.0, 2.0), 64), rng)       # on the tables' nodes:
+    wi = at_polar_angles(rng.choice(np.arange(0.0, 85.0, 2.0), 64), rng)       # on the tables' nodes:
     lam = rng.choice(np.arange(400.0, 701.0, 10.0), (4, wi.shape[1]))      # each M_S is pure there
     got, _, _ = delta_sample(mi, printed, wi, lam)
     expected = 0.0
@@ -110,17 +103,7 @@ def test_overprints_mix_mueller_matrices(use_variant, tables):
 def test_scalar_polarized_matches_llvm(use_variant, tables):
     """scalar_spectral_polarized runs the same code lane by lane: the same Mueller matrices as
     llvm_ad_spectral_polarized (a diffuse table; two inks with an overprint; both lobes)."""
-    import drjit as dr
-
-    from test_polarized_mirror import run_bsdf
-
-    rng = np.random.default_rng(31)
-    n = 16
-    wi, wo = rng.normal(size=(3, n)), rng.normal(size=(3, n))
-    wi /= np.linalg.norm(wi, axis=0)
-    wo /= np.linalg.norm(wo, axis=0)
-    wi[2], wo[2] = np.abs(wi[2]), np.abs(wo[2])
-    lam, u = rng.uniform(360.0, 830.0, (4, n)), rng.random((3, n))
+    wi, wo, lam, u = random_lanes(np.random.default_rng(31), 16)
     scenes = [{"type": "ink", "paper": 0.85, "filename": str(tables["absorbing"]), "coverage": 0.6,
                "coverage_model": "murray-davies"},
               {"type": "ink", "paper": 0.85, "filename1": str(tables["R30"]), "coverage1": 0.6,
@@ -129,19 +112,10 @@ def test_scalar_polarized_matches_llvm(use_variant, tables):
     for scene in scenes:
         mi = use_variant(POLARIZED)
         ref = run_bsdf(mi, mi.load_dict(scene), wi, wo, lam, u)
-        components |= set(ref[6].tolist())
+        components |= set(ref.component.tolist())
         mi = use_variant("scalar_spectral_polarized")
-        bsdf = mi.load_dict(scene)
-        for k in range(n):
-            si = dr.zeros(mi.SurfaceInteraction3f)
-            si.wi = mi.Vector3f(*map(float, wi[:, k]))
-            si.wavelengths = mi.UnpolarizedSpectrum(*map(float, lam[:, k]))
-            si.sh_frame = mi.Frame3f(mi.Vector3f(0, 0, 1))
-            f, p = bsdf.eval_pdf(mi.BSDFContext(), si, mi.Vector3f(*map(float, wo[:, k])))
-            bs, w = bsdf.sample(mi.BSDFContext(), si, float(u[0, k]), mi.Point2f(float(u[1, k]), float(u[2, k])))
-            for name, got, want in (("eval", f, ref[0][..., k]), ("weight", w, ref[3][..., k])):
-                got = np.array([[[got[i][j][c] for c in range(4)] for j in range(4)] for i in range(4)])
-                np.testing.assert_allclose(got, want, rtol=2e-4, atol=1e-6, err_msg=f"{name}, lane {k}")
-            assert p == pytest.approx(float(ref[1][k]), rel=2e-4, abs=1e-6)
-            assert int(bs.sampled_component) == int(ref[6][k])
+        got = run_bsdf_lanewise(mi, mi.load_dict(scene), wi, wo, lam, u)
+        for name in ("f", "weight", "pdf"):
+            np.testing.assert_allclose(getattr(got, name), getattr(ref, name), rtol=2e-4, atol=1e-6, err_msg=name)
+        np.testing.assert_array_equal(got.component, ref.component)
     assert components == {0, 1}                   # both lobes sampled

@@ -14,11 +14,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from bsdf_probes import POLARIZED
+from conftest import BREWSTER_DEG, N_BINDER, interface_table
 from solver.table import write_table
 from solver.table.builder import build_table
 from solver.table.request import table_request
-from test_polarized_mirror import BREWSTER_DEG, POLARIZED, interface_table
 
+pytestmark = pytest.mark.render
 SIZE, SPP = 12, 16
 
 
@@ -76,7 +78,7 @@ def test_face_stokes_image_equals_mitsuba_conductor(use_variant, tmp_path, view_
                                                               75.0, 85.0, 90.0]))
     mi = use_variant(POLARIZED)
     ink = render(mi, {"type": "ink", "filename": str(path), "paper": 0.0}, view_deg, stokes=True)
-    conductor = render(mi, {"type": "conductor", "eta": 1.558, "k": 0.0}, view_deg, stokes=True)
+    conductor = render(mi, {"type": "conductor", "eta": N_BINDER, "k": 0.0}, view_deg, stokes=True)
     np.testing.assert_allclose(ink, conductor, rtol=1e-4, atol=1e-6)
     s0, s1, s2, s3 = (ink[..., 3 + 3 * k: 6 + 3 * k] for k in range(4))
     assert np.all(s1 > 0.05 * s0) and np.all(np.abs(s2) < 1e-5) and np.all(np.abs(s3) < 1e-5)

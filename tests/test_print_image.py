@@ -3,14 +3,13 @@ bad input gives one line and exit status 2 before any work; the demo page's phot
 
 import subprocess
 import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
+from bsdf_probes import surface_interaction
+from conftest import ROOT, run_main, scene_script
 from inkbsdf.print import main
-
-ROOT = Path(__file__).resolve().parents[1]
 
 
 @pytest.fixture(scope="module")
@@ -31,9 +30,7 @@ def tiny_image(tmp_path_factory):
 
 
 def run(args, capsys):
-    status = main([str(a) for a in args])
-    out, err = capsys.readouterr()
-    return status, out, err
+    return run_main(main, args, capsys)
 
 
 @pytest.mark.parametrize("dots", ["AM:60", "FM", "none"])
@@ -61,6 +58,7 @@ def test_prints_textures_and_scene(tiny_image, tmp_path, capsys, dots):
     assert "distinct colours" in out and "wrote" in out
 
 
+@pytest.mark.render
 def test_printed_page_renders(tiny_image, tmp_path, capsys):
     """The scene of a printed image renders (few spp) to a finite image."""
     from inkbsdf.imageio import read_exr
@@ -142,10 +140,9 @@ def test_demo_photograph_textures_are_current():
     defaults (e.g. their polarisation) moves about 1 %."""
     from PIL import Image
 
-    sys.path.insert(0, str(ROOT / "scenes"))
-    import make_assets as ma
-
     from solver.separation import PrintSettings, parse_dots, print_image, printed_inks, read_srgb8
+
+    ma = scene_script("make_assets")
 
     photo = ma.PRINTED_PAGE.photo
     settings = PrintSettings(inks=photo.inks, dots=parse_dots(photo.dots), size_cm=ma.photo_size_cm(photo))
@@ -163,7 +160,6 @@ def test_bsdf_over_binary_dots_shows_murray_davies(use_variant, tmp_path):
     Murray–Davies BRDF at c̄ (to the 1 % the dot areas match Demichel's), not Clapper–Yule's:
     the reason `auto` separates binary dots with murray-davies."""
     import drjit as dr
-    from conftest import surface_interaction
 
     from solver.printing import brdf_smooth
     from solver.separation import TexelGrid, halftone_ink, parse_dots, printed_inks, write_grey_png

@@ -4,14 +4,13 @@ against an independent formula, dot gain in CIELAB, several inks with overprints
 import numpy as np
 import pytest
 
+from oracles import CY, MD, cos_mean
 from printing_tables import SIGMA_RAD, WAVELENGTHS_NM, film, incoherent_stack, stack_of
 from solver.colour import lab_hue_chroma, reflectance_to_xyz, xyz_to_lab
 from solver.printing import (PrintedInks, ReflectancePredictor, all_subsets, brdf_smooth, demichel_weights,
                              directional_albedo, reflectance, specular_reflectance, stack_order)
 from solver.table.evaluate import diffuse_brdf
 from solver.table.evaluate import directional_albedo as table_albedo
-
-CY, MD = "clapper-yule", "murray-davies"
 
 
 @pytest.fixture(scope="module")
@@ -22,13 +21,6 @@ def films():
 def printed_with_stacks(tables):
     """PrintedInks with every overprint, stacked incoherently in printing order."""
     return PrintedInks.from_provider(tables, lambda s: stack_of([tables[i] for i in stack_order(s)]))
-
-
-def cos_mean(sigma, column):
-    """2∫ f cos s sin s ds of a piecewise-linear column by a fine trapezoid (independent)."""
-    s = np.linspace(0.0, np.pi / 2, 200001)
-    vals = np.array([np.interp(s, sigma, row) for row in np.atleast_2d(column)])
-    return np.trapezoid(vals * 2.0 * np.cos(s) * np.sin(s), s, axis=-1)
 
 
 def test_demichel_weights():

@@ -5,13 +5,12 @@ energy; which overprints are evaluated (decided at load); parameters and their e
 import numpy as np
 import pytest
 
-from conftest import surface_interaction
+from bsdf_probes import delta_sample, evaluate, hemisphere, incident, quadrature_albedo, sampled_albedo
+from oracles import CY, MD, azimuth_difference
 from printing_tables import StackProvider, load, reference, write_print_tables
 from solver.printing import PrintedInks, brdf_smooth, directional_albedo, specular_reflectance
 from solver.table import read_table
-from test_bsdf_energy import quadrature_albedo, sampled_albedo
 
-CY, MD = "clapper-yule", "murray-davies"
 LAMBDAS = (415.0, 505.0, 590.0, 675.0)
 N_LANES = 4096
 
@@ -22,38 +21,23 @@ def tables(tmp_path_factory):
 
 
 def directions(rng, n):
-    v = rng.normal(size=(3, n))
-    v /= np.linalg.norm(v, axis=0)
-    v[2] = np.abs(v[2]) + 1e-3
-    return v / np.linalg.norm(v, axis=0)
+    return hemisphere(rng, n, lift=1e-3)
 
 
-def plugin_eval(mi, bsdf, wi, wo, lam=LAMBDAS):
-    import drjit as dr
-
-    si = surface_interaction(mi, wi, np.tile(np.asarray(lam)[:, None], (1, wi.shape[1])))
-    value = bsdf.eval(mi.BSDFContext(), si, mi.Vector3f(*[mi.Float(c) for c in wo]))
-    return np.array([np.asarray(value[j]) for j in range(dr.size_v(mi.Spectrum))], dtype=np.float64)
+def plugin_eval(mi, bsdf, wi, wo):
+    return evaluate(mi, bsdf, wi, wo, np.asarray(LAMBDAS))
 
 
-def reference_eval(printed, coverages, wi, wo, model, paper=0.9, lam=LAMBDAS):
-    """f·cos θo of the smooth part from solver.printing, [4, N]."""
-    sigma, theta = np.arccos(wi[2]), np.arccos(wo[2])
-    dphi = np.abs(np.angle(np.exp(1j * (np.arctan2(wi[1], wi[0]) - np.arctan2(wo[1], wo[0])))))
-    f = brdf_smooth(printed, coverages, paper, sigma, theta, dphi, model, wavelengths_nm=lam)
+def model_eval(printed, coverages, wi, wo, model, paper=0.9):
+    """f·cos θo of the smooth part from the NumPy model (solver.printing), [4, N]."""
+    f = brdf_smooth(printed, coverages, paper, np.arccos(wi[2]), np.arccos(wo[2]), azimuth_difference(wi, wo),
+                    model, wavelengths_nm=LAMBDAS)
     return f * wo[2]
 
 
-def delta_weight(mi, bsdf, deg, lam=LAMBDAS):
+def delta_weight(mi, bsdf, deg):
     """Σ a_S R_spec,S(σ) as the plugin samples it (delta lobe alone: weight without division)."""
-    import drjit as dr
-
-    ctx = mi.BSDFContext()
-    ctx.type_mask = +mi.BSDFFlags.DeltaReflection
-    s = np.radians(deg)
-    si = surface_interaction(mi, np.array([[np.sin(s)], [0.0], [np.cos(s)]]), np.asarray(lam)[:, None])
-    _, w = bsdf.sample(ctx, si, mi.Float(0.5), mi.Point2f(0.5, 0.5))
-    return np.array([np.asarray(w[j])[0] for j in range(dr.size_v(mi.Spectrum))])
+    return delta_sample(mi, bsdf, incident(deg), np.asarray(LAMBDAS)[:, None])[0][:, 0]
 
 
 @pytest.mark.parametrize("model", [CY, MD])
@@ -65,7 +49,7 @@ def test_single_ink_matches_numpy_model(use_variant, tables, model, ink, coverag
     printed = PrintedInks((read_table(tables[ink]),))
     rng = np.random.default_rng(1)
     wi, wo = directions(rng, N_LANES), directions(rng, N_LANES)
-    np.testing.assert_allclose(plugin_eval(mi, bsdf, wi, wo), reference_eval(printed, [coverage], wi, wo, model),
+    np.testing.assert_allclose(plugin_eval(mi, bsdf, wi, wo), model_eval(printed, [coverage], wi, wo, model),
                                rtol=2e-4, atol=2e-6)
     for deg in (0.0, 40.0, 70.0):
         want = directional_albedo(printed, [coverage], 0.9, np.radians(deg), model, wavelengths_nm=LAMBDAS)
@@ -89,7 +73,7 @@ def test_three_overlapping_inks_match_numpy_model(use_variant, tables, model):
     rng = np.random.default_rng(2)
     wi, wo = directions(rng, N_LANES), directions(rng, N_LANES)
     got = plugin_eval(mi, bsdf, wi, wo)
-    np.testing.assert_allclose(got, reference_eval(printed, cov, wi, wo, model), rtol=3e-4, atol=2e-6)
+    np.testing.assert_allclose(got, model_eval(printed, cov, wi, wo, model), rtol=3e-4, atol=2e-6)
     for deg in (0.0, 45.0, 75.0):
         s = np.radians(deg)
         np.testing.assert_allclose(delta_weight(mi, bsdf, deg),
@@ -209,7 +193,7 @@ def test_overprints_decided_at_load(use_variant, tables, tmp_path):
     assert provider.calls == [(2, 1)]
     rng = np.random.default_rng(7)
     wi, wo = directions(rng, 512), directions(rng, 512)
-    want = reference_eval(reference(paths), [0.5, 0.4, 0.0], wi, wo, CY)
+    want = model_eval(reference(paths), [0.5, 0.4, 0.0], wi, wo, CY)
     np.testing.assert_allclose(plugin_eval(mi, bsdf, wi, wo), want, rtol=3e-4, atol=2e-6)
 
 

@@ -4,9 +4,10 @@ both coverage models, weights = eval/pdf, delta-lobe probability from the NumPy 
 import numpy as np
 import pytest
 
+from bsdf_probes import chi2_adapter, sample_consistency
 from printing_tables import StackProvider, load, reference, write_print_tables
 from solver.printing import directional_albedo, specular_reflectance
-from test_bsdf_sampling import _draw, chi2_adapter
+
 
 @pytest.fixture(scope="module")
 def tables(tmp_path_factory):
@@ -52,22 +53,13 @@ def test_chi2_three_inks(use_variant, tables, model, deg, wavelengths, cov):
 
 @pytest.mark.parametrize("model", ["clapper-yule", "murray-davies"])
 def test_sample_weights_three_inks(use_variant, tables, model):
-    """Smooth samples: weight = eval/pdf, bs.pdf = pdf(); delta samples: the mirror direction."""
+    """Smooth samples: weight = eval/pdf, bs.pdf = pdf(); delta samples: the mirror direction
+(bsdf_probes.sample_consistency)."""
     mi = use_variant("llvm_ad_spectral")
-    import drjit as dr
-
     from inkbsdf.inks import stack_provider
 
     with stack_provider(StackProvider()):
         bsdf = load(mi, (tables["Y30"], tables["diffuse"], tables["B30"]), [0.6, 0.5, 0.4], model)
-    si, bs, weight, lam, wi = _draw(mi, bsdf, 55.0, 1 << 14, seed=12)
-    delta = np.asarray(mi.has_flag(bs.sampled_type, mi.BSDFFlags.Delta))
-    assert 0.005 < delta.mean() < 0.9
-    value, pdf = bsdf.eval_pdf(mi.BSDFContext(), si, bs.wo)
-    value = np.array([np.asarray(value[j]) for j in range(dr.size_v(mi.Spectrum))])
-    pdf, d = np.asarray(pdf), ~delta
-    np.testing.assert_allclose(np.asarray(bs.pdf)[d], pdf[d], rtol=1e-5)
-    np.testing.assert_allclose(weight[:, d], value[:, d] / pdf[d], rtol=1e-4, atol=1e-7)
-    wo = np.array([np.asarray(bs.wo[k]) for k in range(3)])
-    np.testing.assert_allclose(wo[:, delta], (wi * [[-1], [-1], [1]])[:, delta], atol=1e-6)
-    assert np.all(np.isfinite(weight)) and np.all(weight >= 0)
+    got = sample_consistency(mi, bsdf, 55.0, 1 << 14, seed=12)
+    assert 0.005 < got.delta.mean() < 0.9
+    assert np.all(np.isfinite(got.weight)) and np.all(got.weight >= 0)

@@ -4,7 +4,8 @@ printing model with that stack written independently (build_stack_table)."""
 
 import numpy as np
 
-from conftest import surface_interaction
+from bsdf_probes import evaluate, hemisphere
+from oracles import azimuth_difference
 from solver.inks import parse_ink
 from solver.printing import PrintedInks, brdf_smooth
 from solver.table.builder import build_table
@@ -15,8 +16,6 @@ LAMBDAS = (415.0, 505.0, 590.0, 675.0)
 
 
 def test_overlapping_inks_build_their_stack_through_the_cache(tmp_path, use_variant):
-    import drjit as dr
-
     mi = use_variant("llvm_ad_spectral")
     cache = tmp_path / "cache"
     bsdf = mi.load_dict({"type": "ink", "ink1": "Y30", "ink2": "B30", "coverage1": 0.6, "coverage2": 0.5,
@@ -27,15 +26,8 @@ def test_overlapping_inks_build_their_stack_through_the_cache(tmp_path, use_vari
                               polarisation=DEFAULT_POLARISATION)
     printed = PrintedInks((y, b), {(0, 1): stack})
     rng = np.random.default_rng(3)
-    wi, wo = rng.normal(size=(3, 512)), rng.normal(size=(3, 512))
-    for v in (wi, wo):
-        v[2] = np.abs(v[2]) + 0.05
-        v /= np.linalg.norm(v, axis=0)
-    si = surface_interaction(mi, wi, np.tile(np.asarray(LAMBDAS)[:, None], (1, wi.shape[1])))
-    value = bsdf.eval(mi.BSDFContext(), si, mi.Vector3f(*[mi.Float(c) for c in wo]))
-    got = np.array([np.asarray(value[j]) for j in range(dr.size_v(mi.Spectrum))])
-    sigma, theta = np.arccos(wi[2]), np.arccos(wo[2])
-    dphi = np.abs(np.angle(np.exp(1j * (np.arctan2(wi[1], wi[0]) - np.arctan2(wo[1], wo[0])))))
-    want = brdf_smooth(printed, np.array([0.6, 0.5]), 0.9, sigma, theta, dphi, "clapper-yule",
-                       wavelengths_nm=LAMBDAS) * wo[2]
+    wi, wo = hemisphere(rng, 512, lift=0.05), hemisphere(rng, 512, lift=0.05)
+    got = evaluate(mi, bsdf, wi, wo, np.asarray(LAMBDAS))
+    want = brdf_smooth(printed, np.array([0.6, 0.5]), 0.9, np.arccos(wi[2]), np.arccos(wo[2]),
+                       azimuth_difference(wi, wo), "clapper-yule", wavelengths_nm=LAMBDAS) * wo[2]
     np.testing.assert_allclose(got, want, rtol=3e-4, atol=1e-6)

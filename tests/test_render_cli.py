@@ -7,9 +7,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from conftest import DEMO_SCENE
 from inkbsdf.render import main, scene_parameters
 
-SCENE = str(Path(__file__).resolve().parents[1] / "scenes" / "printed_page.xml")
+SCENE = DEMO_SCENE
 
 
 def test_missing_tables_folder(tmp_path, capsys):
@@ -42,6 +43,7 @@ def test_scene_parameters_resolve_tables(tmp_path):
     assert params == {"tables": str(tmp_path.resolve()), "width": "32", "spp": "4"}
 
 
+@pytest.mark.render
 def test_module_entry_point_renders(tmp_path, ink_tables):
     """The command of `make demo`, tiny: exit 0, an EXR and a PNG, the render time printed."""
     exr, png = tmp_path / "p.exr", tmp_path / "p.png"
@@ -58,6 +60,7 @@ def test_module_entry_point_renders(tmp_path, ink_tables):
     assert png.stat().st_size > 100
 
 
+@pytest.mark.render
 def test_scene_without_parameters_renders_and_says_what_it_ignored(tmp_path, ink_tables, capsys):
     """Mitsuba refuses parameters a scene does not take: the CLI passes only those it takes."""
     from inkbsdf.render import scene_parameter_names
@@ -204,6 +207,7 @@ def test_entry_point_bad_input_has_no_traceback(tmp_path, ink_tables, unwritable
 
 
 # ----------------------------------------------------------------------- samples per pixel
+@pytest.mark.render
 def test_spp_defaults_to_the_scenes_own(tmp_path, ink_tables, capsys):
     """Without --spp the scene's sample count is used (and said): the image equals an explicit
     render at that count with the same seed, and differs from one at the old fixed 64."""
@@ -255,60 +259,62 @@ def _wait_for(stream, text, proc, timeout_s):
         timer.cancel()
 
 
-def _interrupt(proc):
+def _interrupted(argv, stream, text, settle=lambda proc: None):
+    """Start the CLI, wait for `text` on its stdout or stderr (`stream`), call settle(proc),
+    send SIGINT: exit 130 within 3 s, "interrupted" and no traceback on stderr. Returns what
+    settle returned."""
     import signal
     import time
 
-    t0 = time.perf_counter()
-    proc.send_signal(signal.SIGINT)
-    out, err = proc.communicate(timeout=30)
-    return time.perf_counter() - t0, out, err
-
-
-def test_ctrl_c_during_render_exits_130_promptly(tmp_path, ink_tables):
-    """SIGINT while the kernel runs (a render of tens of seconds): exit 130 within ~1 s, no
-    traceback, nothing written. (Before: the render ran to its end, ~9 s.)"""
-    import time
-
-    exr = tmp_path / "long.exr"
-    proc = _start_cli([SCENE, "--tables", str(ink_tables["R30"].parent), "--spp", "4096", "--width", "160",
-                       "--height", "128", "-o", str(exr)])
+    proc = _start_cli(argv)
     try:
-        _wait_for(proc.stdout, "rendering", proc, 120)
-        time.sleep(0.5)
-        seconds, _, err = _interrupt(proc)
-    finally:
-        proc.kill()
-        proc.wait()
-    assert proc.returncode == 130, err
-    assert "Traceback" not in err and "interrupted" in err
-    assert seconds < 3.0, f"took {seconds:.1f} s to stop"
-    assert not exr.exists()
-
-
-def test_ctrl_c_during_scene_load_stops_table_workers(tmp_path):
-    """SIGINT while a scene load builds a particle table on 2 worker processes: exit 130
-    promptly, no traceback (neither ours nor the workers'), and no worker left running."""
-    import os
-    import time
-
-    bsdf = ('<string name="ink" value="Y7.5+B7.5"/><string name="particles" value="sphere:300"/>'
-            f'<string name="cache" value="{tmp_path / "cache"}"/>')
-    proc = _start_cli([str(bare_scene(tmp_path, bsdf)), "--workers", "2", "-o", str(tmp_path / "x.exr")])
-    try:
-        _wait_for(proc.stderr, "computing table", proc, 120)
-        deadline = time.monotonic() + 60
-        while len(_children(proc.pid)) < 2 and time.monotonic() < deadline:
-            time.sleep(0.1)                                 # the pool's workers have started
-        children = _children(proc.pid)
-        assert len(children) >= 2
-        seconds, _, err = _interrupt(proc)
+        _wait_for(getattr(proc, stream), text, proc, 120)
+        state = settle(proc)
+        t0 = time.perf_counter()
+        proc.send_signal(signal.SIGINT)
+        _, err = proc.communicate(timeout=30)
+        seconds = time.perf_counter() - t0
     finally:
         proc.kill()
         proc.wait()
     assert proc.returncode == 130, err
     assert "Traceback" not in err and "interrupted" in err, err
     assert seconds < 3.0, f"took {seconds:.1f} s to stop"
+    return state
+
+
+@pytest.mark.slow
+@pytest.mark.render
+def test_ctrl_c_during_render_exits_130_promptly(tmp_path, ink_tables):
+    """SIGINT while the kernel runs (a render of tens of seconds): exit 130 within ~1 s, no
+    traceback, nothing written. (Before: the render ran to its end, ~9 s.)"""
+    import time
+
+    exr = tmp_path / "long.exr"
+    _interrupted([SCENE, "--tables", str(ink_tables["R30"].parent), "--spp", "4096", "--width", "160",
+                  "--height", "128", "-o", str(exr)], "stdout", "rendering", lambda proc: time.sleep(0.5))
+    assert not exr.exists()
+
+
+@pytest.mark.slow
+def test_ctrl_c_during_scene_load_stops_table_workers(tmp_path):
+    """SIGINT while a scene load builds a particle table on 2 worker processes: exit 130
+    promptly, no traceback (neither ours nor the workers'), and no worker left running."""
+    import os
+    import time
+
+    def workers_started(proc):
+        deadline = time.monotonic() + 60
+        while len(_children(proc.pid)) < 2 and time.monotonic() < deadline:
+            time.sleep(0.1)
+        children = _children(proc.pid)
+        assert len(children) >= 2
+        return children
+
+    bsdf = ('<string name="ink" value="Y7.5+B7.5"/><string name="particles" value="sphere:300"/>'
+            f'<string name="cache" value="{tmp_path / "cache"}"/>')
+    children = _interrupted([str(bare_scene(tmp_path, bsdf)), "--workers", "2", "-o", str(tmp_path / "x.exr")],
+                            "stderr", "computing table", workers_started)
     deadline = time.monotonic() + 10
     while any(os.path.exists(f"/proc/{c}") for c in children) and time.monotonic() < deadline:
         time.sleep(0.1)

@@ -1,13 +1,14 @@
 """The demo scene rendered through the CLI: a finite image whose patches have the inks' hues."""
 
-from pathlib import Path
 
 import numpy as np
 import pytest
 
+from conftest import DEMO_SCENE
 from inkbsdf.demo_tables import DEMO_INKS
 
-SCENE = str(Path(__file__).resolve().parents[1] / "scenes" / "printed_page.xml")
+pytestmark = pytest.mark.render
+SCENE = DEMO_SCENE
 WIDTH, HEIGHT, SPP = 240, 192, 32
 ERODE_PX = 2
 

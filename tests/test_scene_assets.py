@@ -1,13 +1,13 @@
 """The committed scenes are what the layout description generates, and the softbox's mirror
 image lands where the layout asks (checked by reflecting the eye ray, not by the formula)."""
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "scenes"))
-import make_assets as ma  # noqa: E402
+from conftest import scene_script
+
+ma = scene_script("make_assets")
 
 
 @pytest.mark.parametrize("page", ma.PAGES, ids=lambda p: p.name)

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from solver.inks import parse_ink
-from solver.table import InkTable, TableError, read_table, write_table
+from solver.table import TableError, read_table, write_table
 from solver.table.thinfilm_tier import build_thinfilm_table
 
 

@@ -3,27 +3,15 @@
 import numpy as np
 import pytest
 
+from oracles import abeles
 from solver.inks import molecular_eps, parse_ink
 from solver.table.thinfilm_tier import build_thinfilm_table
 from solver.thinfilm import slab
 
 
-def abeles_te(eps_layer, d, wl, sigma, eps_in=1.0, eps_out=1.0):
-    """Reflectance and transmittance of one layer by the TE characteristic (Abelès) matrix,
-    written independently of solver.thinfilm: M = [[cos δ, −i sin δ / q], [−i q sin δ, cos δ]],
-    q = k_z/k0, δ = k_z d."""
-    k0 = 2 * np.pi / wl
-    s2 = eps_in * np.sin(sigma) ** 2
-    q_in, q, q_out = (np.sqrt(complex(e - s2)) for e in (eps_in, eps_layer, eps_out))
-    q = q if q.imag >= 0 else -q
-    delta = k0 * q * d
-    m11, m12 = np.cos(delta), -1j * np.sin(delta) / q
-    m21, m22 = -1j * q * np.sin(delta), np.cos(delta)
-    b = m11 + m12 * q_out
-    c = m21 + m22 * q_out
-    r = (q_in * b - c) / (q_in * b + c)
-    t = 2 * q_in / (q_in * b + c)
-    return abs(r) ** 2, (q_out.real / q_in.real) * abs(t) ** 2
+def abeles_te(eps_layer, d, wl, sigma):
+    """(R, T) of one layer in air by the TE characteristic matrix (oracles.abeles)."""
+    return abeles([eps_layer], [d], wl, sigma, "te")[1:]
 
 
 CASES = [(1.558**2, 1000.0), ((1.5 + 0.05j) ** 2, 1000.0), ((1.4 + 1.1j) ** 2, 200.0),

@@ -12,6 +12,9 @@ import pytest
 
 from solver.wave.validation import grating_errors
 
+pytestmark = pytest.mark.usefixtures("single_blas_thread")
+
+
 @pytest.mark.parametrize("eps_strip", [(1.4 + 0.2j) ** 2, 1.4 ** 2, (1.4 + 1.1j) ** 2])
 @pytest.mark.parametrize("azimuth", [0.0, 0.7])
 def test_grating_matches_rcwa(eps_strip, azimuth):

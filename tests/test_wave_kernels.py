@@ -1,8 +1,8 @@
 """The exact z-integrals of the layered Green's function against brute-force quadrature.
 
-The oracle here is the Green's function written out from its definition (a point source in a
-slab with the two interface reflections, summed as a geometric series), integrated with
-scipy.integrate.quad; it shares no code with solver/wave/kernel1d.py.
+The oracle is the Green's function written out from its definition (oracles.layered_green: a
+point source in a slab with the two interface reflections, summed as a geometric series),
+integrated with scipy.integrate.quad; it shares no code with solver/wave/kernel1d.py.
 """
 from __future__ import annotations
 
@@ -10,16 +10,12 @@ import math
 
 import numpy as np
 import pytest
-from scipy.integrate import IntegrationWarning, quad
+from scipy.integrate import IntegrationWarning
 
+from oracles import complex_quad, layered_green
 from solver.wave import zbasis
 from solver.wave.kernel1d import (background_amplitudes, circulant_blocks, face_profiles,
                                   face_weights, slab_green, vertical_wavenumber)
-
-
-def cquad(f, a, b, points=None):
-    kw = dict(points=points, limit=200, epsabs=1e-15, epsrel=1e-12)
-    return quad(lambda t: f(t).real, a, b, **kw)[0] + 1j * quad(lambda t: f(t).imag, a, b, **kw)[0]
 
 
 PHI = [lambda t: 1.0 + 0 * t, lambda t: math.sqrt(3) * (2 * t - 1)]
@@ -33,33 +29,19 @@ def test_basis_integrals_match_quadrature(x):
     xa = np.array([x])
     ints = zbasis.single_integrals(xa, 2)
     for q in range(2):
-        assert abs(ints[q][0] - cquad(lambda t: PHI[q](t) * np.exp(x * t), 0, 1)) < 1e-13
+        assert abs(ints[q][0] - complex_quad(lambda t: PHI[q](t) * np.exp(x * t), 0, 1)) < 1e-13
     for p in range(2):
         for q in range(2):
             for sgn in (1, -1):
                 got = zbasis.diag_galerkin(p, q, sgn * xa, np.ones(1, complex), np.exp(sgn * xa))[0]
-                ref = cquad(lambda t: cquad(lambda s: PHI[p](t) * PHI[q](s)
+                ref = complex_quad(lambda t: complex_quad(lambda s: PHI[p](t) * PHI[q](s)
                                             * np.exp(sgn * x * abs(t - s)), 0, 1, [t]), 0, 1)
                 assert abs(got - ref) < 1e-12
     for tau in (0.0, 0.3, 1.0):
         for q in range(2):
             lq, rq = zbasis.diag_point(q, tau, xa)
-            ref = cquad(lambda s: PHI[q](s) * np.exp(x * abs(tau - s)), 0, 1, [tau])
+            ref = complex_quad(lambda s: PHI[q](s) * np.exp(x * abs(tau - s)), 0, 1, [tau])
             assert abs(lq[0] + rq[0] - ref) < 1e-12
-
-
-def _green_oracle(kap, ka, kc, big_h):
-    """g(z, z′): a point source in the slab plus its reflections at both faces; the
-    multiple-reflection series Σ (r_t r_b e^{2iκH})^n is summed in closed form."""
-    rt, rb = (kap - ka) / (kap + ka), (kap - kc) / (kap + kc)
-    series = 1 / (1 - rt * rb * np.exp(2j * kap * big_h))
-
-    def g(z, zp):
-        return 1j / (2 * kap) * series * (
-            np.exp(1j * kap * abs(z - zp)) + rt * np.exp(1j * kap * (z + zp))
-            + rb * np.exp(1j * kap * (2 * big_h - z - zp))
-            + rt * rb * np.exp(1j * kap * (2 * big_h - abs(z - zp))))
-    return g
 
 
 def test_green_oracle_solves_the_layered_problem():
@@ -70,7 +52,7 @@ def test_green_oracle_solves_the_layered_problem():
         kap = complex(np.sqrt(k0 ** 2 * (2.3 + 0.3j) - kt ** 2))
         ka, kc = (complex(np.sqrt(k0 ** 2 * e - kt ** 2 + 0j)) for e in (1.0, 1.2))
         ka, kc = (k if k.imag >= 0 else -k for k in (ka, kc))
-        g = _green_oracle(kap, ka, kc, big_h)
+        g = layered_green(kap, ka, kc, big_h)
         zp, d = 110.0, 0.1
         for z in (40.0, 200.0):
             second = (g(z + d, zp) - 2 * g(z, zp) + g(z - d, zp)) / d ** 2
@@ -94,7 +76,7 @@ def test_galerkin_and_point_kernels_match_quadrature(kt_over_k0):
     ka = vertical_wavenumber(k0 ** 2 * 1.0, kt2)
     kc = vertical_wavenumber(k0 ** 2 * 1.2, kt2)
     sg = slab_green(kap, ka, kc, big_h, nz, 2)
-    g = _green_oracle(kap[0], ka[0], kc[0], big_h)
+    g = layered_green(kap[0], ka[0], kc[0], big_h)
     phi = [lambda z, l: 1.0, lambda z, l: math.sqrt(3) * (2 * (z / h - l) - 1)]
     blocks = {(p, q): (t[0], hk[0]) for p, q, t, hk in circulant_blocks(sg)}
     scale = 0.0
@@ -103,7 +85,7 @@ def test_galerkin_and_point_kernels_match_quadrature(kt_over_k0):
         for k in range(nz):
             for l in range(nz):
                 got = toe[(k - l) % (2 * nz)] + han[k + l]
-                ref = cquad(lambda z: phi[p](z, k) * cquad(
+                ref = complex_quad(lambda z: phi[p](z, k) * complex_quad(
                     lambda zp: g(z, zp) * phi[q](zp, l), l * h, (l + 1) * h,
                     [z] if l * h < z < (l + 1) * h else None), k * h, (k + 1) * h) / h
                 worst, scale = max(worst, abs(got - ref)), max(scale, abs(ref))
@@ -113,16 +95,16 @@ def test_galerkin_and_point_kernels_match_quadrature(kt_over_k0):
         for k in range(nz):
             for l in range(nz):
                 got = toe[0, (k - l) % (2 * nz)] + han[0, k + l]
-                ref = cquad(lambda zp: g(k * h + s, zp) * phi[q](zp, l), l * h, (l + 1) * h,
+                ref = complex_quad(lambda zp: g(k * h + s, zp) * phi[q](zp, l), l * h, (l + 1) * h,
                             [k * h + s] if l == k else None)
                 assert abs(got - ref) < 1e-10 * scale
     ptop, pbot = face_profiles(sg)
     ctop, cbot = face_weights(sg)
     for q in range(2):
         for l in range(nz):
-            assert abs(ctop[0] * ptop[q, 0, l] - cquad(
+            assert abs(ctop[0] * ptop[q, 0, l] - complex_quad(
                 lambda zp: g(0.0, zp) * phi[q](zp, l), l * h, (l + 1) * h)) < 1e-10 * scale
-            assert abs(cbot[0] * pbot[q, 0, l] - cquad(
+            assert abs(cbot[0] * pbot[q, 0, l] - complex_quad(
                 lambda zp: g(big_h, zp) * phi[q](zp, l), l * h, (l + 1) * h)) < 1e-10 * scale
 
 

@@ -1,5 +1,6 @@
 """Self-checks of the independent oracles in solver/wave/oracles.py (energy, optical theorem,
-limits), and their independence from the solver's code."""
+limits), and their independence from the solver's code; the tests' own Airy slab
+(tests/oracles.py) in TE against solver/wave/oracles.airy_te and in TM by its limits."""
 from __future__ import annotations
 
 import ast
@@ -10,6 +11,7 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
+from oracles import airy_slab
 from solver.wave import oracles
 from solver.wave.oracles import airy_te, mie_scalar_amplitude, rcwa_te, sphere_fractions
 
@@ -34,6 +36,33 @@ def test_airy_energy_and_limits(n_slab):
     assert t0 == pytest.approx(np.exp(1j * 2 * math.pi / 500 * math.cos(0.4) * 300))
 
 
+@pytest.mark.parametrize("n_in,n_slab,n_out,sigma", [(1.0, 1.558, 1.0, 0.4), (1.0, 1.4 + 0.2j, 1.33, 1.2),
+                                                     (1.5, 1.558, 1.0, 1.1), (1.33, 1.4 + 1.1j, 1.0, 0.0)])
+def test_airy_te_equals_the_tests_airy_slab(n_in, n_slab, n_out, sigma):
+    """Two independent Airy implementations (solver/wave/oracles.py, tests/oracles.py) agree,
+    total internal reflection (1.5 → 1.0 at 1.1 rad) included."""
+    for got, want in zip(airy_te(n_in, n_slab, n_out, 700.0, 500.0, sigma),
+                         airy_slab(n_in, n_slab, n_out, 700.0, 500.0, sigma, "te")):
+        assert got == pytest.approx(complex(want), abs=1e-13)
+
+
+def test_airy_slab_tm_limits():
+    """TM self-checks: lossless energy, TE = TM at normal incidence up to the sign convention
+    (r_TM(0) = −r_TE(0) for H), Brewster zero of a single interface."""
+    lam = 500.0
+    r, t, big_r, big_t = airy_slab(1.0, 1.558, 1.0, 700.0, lam, 0.7, "tm")
+    assert big_r + big_t == pytest.approx(1.0, abs=1e-12)
+    r0, _, R0, T0 = airy_slab(1.0, 1.558, 1.0, 700.0, lam, 0.0, "tm")
+    k0 = 2 * math.pi / lam
+    k1, k2 = k0, k0 * 1.558
+    r_te = (k1 - k2) / (k1 + k2)
+    e2 = np.exp(2j * k2 * 700.0)
+    assert R0 == pytest.approx(abs((r_te - r_te * e2) / (1 - r_te ** 2 * e2)) ** 2, rel=1e-12)
+    assert r0 == pytest.approx(-airy_slab(1.0, 1.558, 1.0, 700.0, lam, 0.0, "te")[0], abs=1e-15)
+    rb, _, _, _ = airy_slab(1.0, 1.558, 1.558, 700.0, lam, math.atan(1.558), "tm")
+    assert abs(rb) < 1e-14
+
+
 def test_mie_small_sphere_matches_born_and_optical_theorem():
     k, a, m = 2 * math.pi / 500, 60.0, 1.05 + 0.01j
     born = k ** 2 * (m ** 2 - 1) * a ** 3 / 3
@@ -46,6 +75,7 @@ def test_mie_small_sphere_matches_born_and_optical_theorem():
     assert 4 * math.pi / k * mie_scalar_amplitude(m, k, a, 1.0).imag > sca
 
 
+@pytest.mark.usefixtures("single_blas_thread")
 def test_rcwa_reduces_to_airy_and_conserves_energy():
     m, r, t, ka, kc = rcwa_te(1.0, 1.0, 1.5 ** 2, 1.5 ** 2, 0, 100, 500, 300, 500, 0.3, 4)
     ra, ta, _, _ = airy_te(1.0, 1.5, 1.0, 300, 500, 0.3)

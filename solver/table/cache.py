@@ -58,6 +58,9 @@ def _pid_alive(pid: int) -> bool:
 class TableCache:
     root: Path
 
+    def __post_init__(self):
+        object.__setattr__(self, "root", Path(self.root).expanduser())
+
     @classmethod
     def default(cls) -> "TableCache":
         return cls(default_root())

@@ -27,6 +27,7 @@ from dataclasses import asdict, dataclass, field, replace
 import numpy as np
 
 from ..geometry.spec import MOLECULAR_WORDS, ParticleSpec, parse_particles
+from ..geometry.stacking import split_cells
 from ..inks import Ink, parse_ink
 from ..materials import MaterialData, default_materials
 from .fingerprint import code_fingerprint
@@ -72,9 +73,9 @@ class WaveSettings:
 #: accuracy presets of particle inks (wave settings and wavelength step); docs/tables.md has
 #: each preset's measured colour error against `fine` and its cost
 ACCURACY = {
-    "preview": (WaveSettings(grid=(48, 48, 24), realizations=2), 40.0),
+    "preview": (WaveSettings(grid=(40, 40, 20), realizations=2), 40.0),
     "default": (WaveSettings(), PARTICLE_WAVELENGTH_STEP_NM),
-    "fine": (WaveSettings(grid=(96, 96, 48), realizations=8), 10.0),
+    "fine": (WaveSettings(grid=(80, 80, 40), realizations=6), 10.0),
 }
 #: the CLI name of each option, for messages
 OPTION = {"thickness_nm": "--thickness", "wavelengths_nm": "--wavelengths", "sigma_rad": "--angles",
@@ -313,6 +314,11 @@ def table_request(ink, particles="molecular", *, thickness_nm=None, accuracy: st
     if not molecular:
         fields = dict(asdict(preset), **wave_overrides)
         fields["grid"] = tuple(fields["grid"])
+        if len(layers) > 1 and "grid" not in wave_overrides:
+            # the preset's z cells are for one 1000-nm layer: a stack keeps their height
+            nx, ny, nz = fields["grid"]
+            fields["grid"] = (nx, ny, sum(max(1, round(nz * layer.thickness_nm / DEFAULT_THICKNESS_NM))
+                                          for layer in layers))
         wave = WaveSettings(**fields)
     elif set(wave_overrides) - {"tier"}:
         import warnings     # settings of the wave solver mean nothing for a homogeneous layer
@@ -358,6 +364,14 @@ def validate(req: TableRequest) -> None:
     if req.wave is None:
         return
     w = req.wave
+    if len(req.layers) > 1:
+        if any(layer.particles is not None and layer.particles.rough_top > 0 for layer in req.layers):
+            raise RequestError(f"--particles {req.particles_label}: a rough top inside a stack is not modelled; "
+                               "give the stacked particle layers flat faces")
+        try:
+            split_cells([layer.thickness_nm for layer in req.layers], int(w.grid[2]))
+        except ValueError as exc:
+            raise RequestError(str(exc)) from None
     _finite_positive(w.cell_nm, f"{OPTION['cell_nm']} (cell period, nm)")
     if len(w.grid) != 3 or any(not isinstance(n, (int, np.integer)) for n in w.grid) \
             or any(n < m for n, m in zip(w.grid, MIN_GRID)):

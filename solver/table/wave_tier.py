@@ -24,16 +24,18 @@ Sampling (docs/tables.md):
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..geometry import LayerSpec, eps_grid, generate, voxelize
+from ..geometry.stacking import split_cells, stack_voxels, uniform_layer
 from ..inks import molecular_eps
 from ..wave import Cell, prepare, solve_prepared
 from .orders_to_brdf import fold_dphi, spread_orders
-from .request import RequestError, TableRequest
+from .request import TableRequest
 
 GOLDEN = 0.5 * (math.sqrt(5.0) - 1.0)
 TE, TM = 0, 1
@@ -59,18 +61,44 @@ def samples(request: TableRequest) -> tuple[tuple[int, int], ...]:
     return tuple((j, p) for j in range(count) for p in (TE, TM))
 
 
-def layer_spec(request: TableRequest) -> LayerSpec:
-    if len(request.layers) != 1:
-        raise RequestError(f"{request.ink_label}: stacks with particle layers are not solved yet; "
-                           "give molecular layers for an exact multilayer film")
-    layer = request.layer
+def layer_spec(request: TableRequest, index: int = 0) -> LayerSpec:
+    """The geometry of one particle layer of the request (the only one, or layer `index` of a
+    stack, top first)."""
+    layer = request.layers[index]
     return LayerSpec(layer.ink, layer.particles, thickness_nm=layer.thickness_nm,
                      cell_nm=(request.wave.cell_nm, request.wave.cell_nm))
 
 
 def needs_below(request: TableRequest) -> bool:
-    """Only a rough top breaks the layer's statistical up-down symmetry here."""
-    return any(layer.particles is not None and layer.particles.rough_top > 0 for layer in request.layers)
+    """A rough top or a stack of different layers breaks the up-down symmetry: Rbar_below is
+    then solved from below, with the same operator."""
+    return len(request.layers) > 1 or any(
+        layer.particles is not None and layer.particles.rough_top > 0 for layer in request.layers)
+
+
+def nominal_eps(request: TableRequest, wavelength_nm: float) -> complex:
+    """The background slab's ε_b: the layers' molecular-mix permittivities, thickness-weighted."""
+    total = request.thickness_nm
+    return complex(sum(molecular_eps(layer.ink, wavelength_nm, request.materials) * layer.thickness_nm / total
+                       for layer in request.layers))
+
+
+def _stack_geometry(request: TableRequest, realization: int):
+    """Voxel fractions of a stack: each layer on its share of the z cells, top first."""
+    nx, ny, nz = request.wave.grid
+    period = (request.wave.cell_nm, request.wave.cell_nm)
+    cells = split_cells([layer.thickness_nm for layer in request.layers], nz)
+    grids, z0 = [], 0.0
+    for i, (layer, n) in enumerate(zip(request.layers, cells)):
+        z1 = z0 + layer.thickness_nm
+        if layer.molecular:
+            grids.append(uniform_layer(layer.ink, (nx, ny, n), period, (z0, z1)))
+        else:
+            seed = int(np.random.SeedSequence([request.wave.seed, realization, i]).generate_state(1)[0])
+            vox = voxelize(generate(layer_spec(request, i), seed), (nx, ny, n))
+            grids.append(dataclasses.replace(vox, z_range_nm=(z0, z1)))
+        z0 = z1
+    return stack_voxels(grids)
 
 
 @dataclass(frozen=True)
@@ -81,6 +109,8 @@ class GeometryUnit:
 
 def geometry_unit(unit: GeometryUnit):
     """Voxel fractions of one seeded realization."""
+    if len(unit.request.layers) > 1:
+        return _stack_geometry(unit.request, unit.realization)
     real = generate(layer_spec(unit.request), realization_seed(unit.request, unit.realization))
     return voxelize(real, unit.request.wave.grid)
 
@@ -102,7 +132,7 @@ def solve_unit(unit: SolveUnit) -> dict:
     sig, phis, todo = req.grids.solved_sigma_rad, azimuths(req, unit.realization), samples(req)
     below = needs_below(req)
     cell = Cell(eps_grid(vox, wl, req.materials), tuple(vox.period_nm), tuple(vox.z_range_nm))
-    eps_nominal = complex(molecular_eps(req.layer.ink, wl, req.materials))
+    eps_nominal = nominal_eps(req, wl)
     z_top, z_bottom = (float(z) for z in vox.z_range_nm)
     polar, dphi = np.asarray(req.grids.sigma_rad), req.grids.dphi_rad
     shape = (sig.size, len(todo))

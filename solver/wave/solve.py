@@ -50,14 +50,14 @@ class DiffractionResult:
     R, T: totals over propagating orders, 00 included; R_spec, T_coh: the 00 orders alone.
     absorbed: the scheme's A; energy_error = R + T + absorbed − 1; energy_check: how A was
     obtained: 'residual' (Green's identity, A = 1 − R − T + E with E from the true residual:
-    one inner product) or 'quadrature' (∫ Im ε |u|² by quadrature, independent of R and T;
-    exact_energy=True, and always for the Born series).  absorbed_midpoint: the plain
-    cell-average sum.  residuals: relative residual after every iteration; residual: final
+    one inner product), 'quadrature' (∫ Im ε |u|² by quadrature, independent of R and T;
+    exact_energy=True, and a converged Born series) or, for a truncated Born series without
+    exact_energy (it does not conserve energy), 'midpoint'.  absorbed_midpoint: the plain cell-average sum.  residuals: relative residual after every iteration; residual: final
     explicit residual.  kz_incident: k_z of the incident wave in its medium (1/nm), the power
     normalisation.  field: total field u (with its Bloch phase) at the voxel centres as z-cell
     averages, if asked.  solution: the solved moments w (nb, nx, ny, nz), the warm start x0
     for a neighbouring solve.  polarisation: 'te' or 'tm'; tm_faces: the TM face forms
-    (faces.py preset name, or 'mean=…,propagating=…,evanescent=…'), None for TE.
+    (faces.py preset name, or 'inner=…,outer=…,evanescent=…,mean=…'), None for TE.
     """
 
     wavelength_nm: float
@@ -165,13 +165,17 @@ def solve_prepared(op: LayerOperator, from_below: bool = False, *, tol: float = 
     f = op.contrast * w
     refl, trans, kz_inc = diffraction_orders(op, f, from_below)
     big_r, big_t = refl.total, trans.total
-    if exact_energy or out.residual_vector is None:
+    a_mid = midpoint_absorption(op, w, from_below, kz_inc)
+    if exact_energy or (out.residual_vector is None and out.converged):
         a_exact = absorption(op, w, f, from_below, kz_inc, refl, trans)
         check = "quadrature"
+    elif out.residual_vector is None:
+        # a truncated (unconverged) Born series is not meant to conserve energy: the cheap
+        # midpoint absorption (O(h²)) reports it; exact_energy=True measures it by quadrature
+        a_exact, check = a_mid, "midpoint"
     else:
         a_exact, _ = closure(op, out.residual_vector, f, big_r, big_t, from_below, kz_inc)
         check = "residual"
-    a_mid = midpoint_absorption(op, w, from_below, kz_inc)
     vals = (big_r, big_t, a_exact, a_mid, out.true_residual)
     if not all(math.isfinite(v) for v in vals) or not np.all(np.isfinite(refl.amplitude)) \
             or not np.all(np.isfinite(trans.amplitude)):
