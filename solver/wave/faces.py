@@ -21,8 +21,8 @@ through E_x.  A homogeneous slab has no scattered harmonics: every form gives it
 `TMFaces` says which form each class of harmonic gets, by its lateral wavevector |q| in the
 face's half-space ε: `inner` below the Brewster wavevector q_B = k0·√Re(ε_f·ε/(ε_f + ε)),
 `outer` from q_B to the light line k0·√ε (propagating), `evanescent` beyond (for unequal
-half-spaces see harmonic_forms); `mean`, if
-given, overrides the form of the 00 harmonic (the coherent mean field).  A rule that depends on
+half-spaces see harmonic_forms); `mean`, if given, overrides the form of the 00 harmonic (the
+coherent mean field).  A rule that depends on
 |q| alone keeps the model reciprocal (the reversed problem sees the same faces); a `mean`
 override does not.  Where two classes meet the forms should agree for the field to be
 continuous in λ and σ: 'te' and 'h' agree at the light line (y = 0), 'e' and 'h' at Brewster's
@@ -33,16 +33,17 @@ Per face and harmonic, `FaceCoefficients` holds everything the Green's function,
 amplitudes and the energy identity need, all finite at Wood anomalies (k_z = 0):
 
     r       internal reflection of the slab field: (κ − y)/(κ + y)
-    out     reported outgoing amplitude per unit slab wave arriving, over (1 + r)·2κ … : the
-            face weight is i·h·out/D (kernel1d.face_weights); te/h: 1/(κ + y)
+    out     rep/(κ + y), rep = the reported amplitude per unit of u at the face (te/h: 1,
+            e: ∓k0ε/k_z): the face weight is i·h·out/D (kernel1d.face_weights), finite
+            for e as −/+ k0·ε·ε_f/(κε_f k_z + κ_f²ε)
     launch  slab wave launched by a unit reported incident wave: te/h 2y/(κ + y)
     psi     flux coefficient: a reported amplitude a carries the scalar flux Re(ψ)·|a|²
             (te/h: ψ = y); the power fraction of an order is Re(ψ)|a|²/Re(ψ_incident)
     sign    s = (reported/slab) × (slab/reported incident) of the 00 wave: +1 te/h, −1 e
-    flux_factor  f = Re ψ/(k_z/ε) for a propagating harmonic (te: ε, h: Re ε_f,
-            e: Re(κ_f²/ε_f)/k0²): a propagating order's amplitude is reported as
-            a·√(f/f_incident), the TM amplitude whose power is (ε_in/ε_out)(k_z/k_z,inc)|a|²
-            (orders.py), so that one convention serves every form
+    flux_factor  f = ψ/(k_z/ε) for a propagating harmonic (te: ε, h: ε_f, e: κ_f²/(k0²ε_f)):
+            a propagating order's amplitude is reported as a·√(f/f_incident) (orders.py), so
+            that every TM amplitude obeys the TM reciprocity relation and, for real ε_f, has the
+            power (ε_in/ε_out)(k_z/k_z,inc)|a|²: one convention for every form
 """
 from __future__ import annotations
 
