@@ -9,6 +9,7 @@ docs/vector_referee.md.
     python -m benchmarks.bench_vector --validate       # the referee's checks (~1–2 min)
     python -m benchmarks.bench_vector --knobs          # lmax, plane-wave cutoff, scalar grid
     python -m benchmarks.bench_vector --case 1 --compute 3000   # one case only
+    python -m benchmarks.bench_vector --faces          # TM face forms vs the referee (cache)
 
 Vector units are cached in out/bench/vector/ (one .npz per realization, λ, σ); the table lists
 what the cache holds and names the units still missing.  `--compute` works through CASES in
@@ -27,30 +28,36 @@ import numpy as np
 
 from benchmarks.vector import compare, runs
 from benchmarks.vector.cases import Case, host_eps, sphere_eps
+from solver.wave import DEFAULT_TM_FACES
 
 COLOUR_WAVELENGTHS = (420.0, 470.0, 520.0, 580.0, 660.0)
 
 #: The comparison cases, cheapest first.  Cells are as large as the lattice sums allow on the
 #: 2-core VM (docs/vector_referee.md: cost ∝ pairs of spheres × (2·lmax + 1)²).
+#: The two colour cases have 3 and 2 realizations (docs/vector_referee.md, realization noise).
 CASES = (
-    Case(300.0, 0.15, 1000.0, COLOUR_WAVELENGTHS),
-    Case(100.0, 0.15, 500.0, (420.0, 470.0, 520.0, 660.0), pw_cutoff_per_nm=0.08),
+    Case(300.0, 0.15, 1000.0, COLOUR_WAVELENGTHS, realizations=3),
+    Case(100.0, 0.15, 500.0, (420.0, 470.0, 520.0, 660.0), pw_cutoff_per_nm=0.08,
+         realizations=2),
     Case(300.0, 0.50, 1000.0, (470.0, 550.0), polar_deg=(0.0,)),
     Case(100.0, 0.50, 400.0, (470.0, 550.0), polar_deg=(0.0,), pw_cutoff_per_nm=0.08),
 )
 QUICK = Case(300.0, 0.15, 1000.0, (500.0,), polar_deg=(0.0,))
+#: scalar variants of the main table: (pigment ε model, TM face preset)
+DEFAULT_VARIANTS = (("volume", DEFAULT_TM_FACES), ("localfield", DEFAULT_TM_FACES))
 
 
-def units_of(case: Case, *, compute_until: float | None = None):
-    """[λ][σ] lists over realizations of the vector units and, per scalar variant, the scalar
-    units; missing vector units are computed while time.monotonic() < compute_until, else
-    listed in `missing`."""
+def units_of(case: Case, *, compute_until: float | None = None,
+             variants: tuple[tuple[str, str], ...] = DEFAULT_VARIANTS):
+    """[λ][σ] lists over realizations of the vector units and, per scalar variant (material
+    model, TM face preset), the scalar units; missing vector units are computed while
+    time.monotonic() < compute_until, else listed in `missing`."""
     vec, missing = [], []
-    sca = {v: [] for v in runs.VARIANTS}
+    sca = {v: [] for v in variants}
     for lam in case.wavelengths_nm:
-        vrow, srows = [], {v: [] for v in runs.VARIANTS}
+        vrow, srows = [], {v: [] for v in variants}
         for sig in case.polar_deg:
-            vs, ss = [], {v: [] for v in runs.VARIANTS}
+            vs, ss = [], {v: [] for v in variants}
             for r in range(case.realizations):
                 go = compute_until is not None and time.monotonic() < compute_until
                 u = runs.vector_unit(case, r, lam, sig, compute=go)
@@ -58,13 +65,13 @@ def units_of(case: Case, *, compute_until: float | None = None):
                     missing.append((r, lam, sig))
                     continue
                 vs.append(u)
-                for v in runs.VARIANTS:
-                    ss[v].append(runs.scalar_unit(case, r, lam, sig, v))
+                for v in variants:
+                    ss[v].append(runs.scalar_unit(case, r, lam, sig, *v))
             vrow.append(vs)
-            for v in runs.VARIANTS:
+            for v in variants:
                 srows[v].append(ss[v])
         vec.append(vrow)
-        for v in runs.VARIANTS:
+        for v in variants:
             sca[v].append(srows[v])
     return vec, sca, missing
 
@@ -126,8 +133,8 @@ def print_case(case: Case, vec, sca, missing) -> dict | None:
                 for row in vec for us in row for u in us)
     print(f"    vector, cross-polarised mirror beam (s→p, p→s) of one realization: ≤ {cross:.1e} of the incident power")
     ev = compare.reduce_units(vec, case.wavelengths_nm, case.polar_deg)
-    es = compare.reduce_units(sca["plain"], case.wavelengths_nm, case.polar_deg)
-    el = compare.reduce_units(sca["localfield"], case.wavelengths_nm, case.polar_deg)
+    es = compare.reduce_units(sca[DEFAULT_VARIANTS[0]], case.wavelengths_nm, case.polar_deg)
+    el = compare.reduce_units(sca[DEFAULT_VARIANTS[1]], case.wavelengths_nm, case.polar_deg)
     print("    λ     σ  pol  |  Rbar vec  scal    diff |  Tbar vec  scal    diff | Rspec vec  scal    diff"
           " | A scal/vec | local-field scalar: ΔRbar  ΔTbar")
     for i, lam in enumerate(case.wavelengths_nm):
@@ -148,7 +155,7 @@ def print_case(case: Case, vec, sca, missing) -> dict | None:
     if len(case.wavelengths_nm) >= 3 and len(case.polar_deg) >= 2:
         print("    ink on paper (r = 0.9) under diffuse light, CIELAB (D65) and ΔE2000 to the vector layer:")
         out["plain"] = _colour(case, ev, es, "scalar")
-        print("    the same with the local-field-corrected pigment ε in the scalar solver (experiment):")
+        print("    the same with the local-field pigment ε in the scalar solver (eps_grid(local_field=True)):")
         out["localfield"] = _colour(case, ev, el, "scalar-LF")
     out["ensembles"] = (ev, es, el)
     return out
@@ -177,6 +184,8 @@ def plot(results, path=Path("out/bench/vector_spectra.png")) -> None:
             if np.all(np.isfinite(es.Rbar[..., 2])):
                 ax.plot(case.wavelengths_nm, compare.albedo_on_paper(es, 2)[:, j], "m" + ls,
                         label=f"scalar unpol. (TE+TM) {sig:g}°")
+                ax.plot(case.wavelengths_nm, compare.albedo_on_paper(el, 2)[:, j], "c" + ls,
+                        label=f"scalar unpol., local-field ε {sig:g}°")
         ax.set_title(case.label, fontsize=9)
         ax.set_xlabel("wavelength (nm)")
         ax.set_ylabel("ink on paper (r = 0.9): albedo, diffuse light")
@@ -203,6 +212,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--knobs", action="store_true", help="accuracy knobs: lmax, plane-wave cutoff, scalar grid")
     ap.add_argument("--compute", type=float, default=0.0, metavar="SECONDS",
                     help="compute missing vector units, starting new ones for at most this long")
+    ap.add_argument("--faces", action="store_true",
+                    help="evaluate every TM face-form preset (and the local-field ε) against the "
+                         "cached vector units, with reciprocity and Wood-anomaly checks")
     ap.add_argument("--case", type=int, action="append", metavar="N",
                     help="only case N of CASES (0-based; repeatable), e.g. to compute cases in parallel")
     args = ap.parse_args(argv)
@@ -223,8 +235,16 @@ def main(argv: list[str] | None = None) -> int:
             return validate.knobs()
     if args.quick:
         return quick()
+    if args.faces:
+        from benchmarks.vector import faces_eval
+        chosen = CASES if not args.case else [CASES[i] for i in args.case]
+        t0 = time.monotonic()
+        faces_eval.evaluate(chosen)
+        faces_eval.physics_checks(CASES[0], dense=CASES[2])
+        print(f"\n--faces: {time.monotonic() - t0:.0f} s (scalar units cached in out/bench/vector/)")
+        return 0
     until = time.monotonic() + args.compute if args.compute > 0 else None
-    print(f"scalar solver polarisations: {', '.join(runs.scalar_polarisations())}; "
+    print(f"scalar solver: TE and TM (tm_faces={DEFAULT_TM_FACES!r}); "
           f"scalar grid voxel {runs.SCALAR_VOXEL_NM:.1f} nm, tol {runs.SCALAR_TOL:g}")
     chosen = CASES if not args.case else [CASES[i] for i in args.case]
     results = []

@@ -1,8 +1,9 @@
-"""TM polarisation at the layer's faces: u and ∂_z u/ε continuous (u = H_y), against the exact
-TM Airy formula (oracles.airy_slab; the slab cases of both polarisations are in
-test_wave_slab.py, Wood anomalies in test_wave_hard.py); TM energy closure with real and
-complex ε_f; reciprocity; Brewster; hard cases.  The interior stays scalar
-(docs/wave_solver.md, "TM polarisation")."""
+"""TM polarisation at the layer's faces, against the exact TM Airy formula (oracles.airy_slab;
+the slab cases of both polarisations are in test_wave_slab.py, Wood anomalies in
+test_wave_hard.py); TM energy closure with real and complex ε_f; reciprocity; Brewster; hard
+cases.  The interior stays scalar (docs/wave_solver.md, "TM polarisation"); the default face
+forms are the 'brewster' preset (E_x / H_y / TE conditions per harmonic, "TM faces"; every
+preset is tested in test_wave_hybrid.py)."""
 from __future__ import annotations
 
 import math
@@ -12,7 +13,8 @@ import numpy as np
 import pytest
 
 from conftest import E_BINDER, reciprocal_order_pairs, slab_against_airy
-from solver.wave import Cell, Incidence, bloch_vector, prepare, solve, solve_prepared
+from solver.wave import (TM_FACE_PRESETS, Cell, Incidence, bloch_vector, prepare, solve,
+                         solve_prepared)
 from solver.wave.validation import random_layer
 
 LAM = 500.0
@@ -40,14 +42,23 @@ def test_brewster_angle_of_a_clear_binder_film():
     assert near.R_spec > 1e-3
 
 
-def test_tm_with_face_equal_to_half_spaces_is_te():
-    """ε_f = ε_above = ε_below makes the TM face conditions the TE ones: identical results."""
+@pytest.mark.parametrize("preset", sorted(TM_FACE_PRESETS))
+def test_tm_with_face_equal_to_half_spaces_is_te(preset):
+    """ε_f = ε_above = ε_below makes every TM face form (H_y, E_x) the TE face: the same
+    powers; the 00 amplitudes equal up to the H_y sign convention of E_x faces (r_p = −r_s)."""
     cell = random_layer(1.4 + 0.1j, shape=(16, 16, 8))
     inc = Incidence(LAM, 0.4, 0.3)
-    te = solve(cell, inc, tol=1e-6)
-    tm = solve(cell, inc, tol=1e-6, polarisation="tm", eps_face=1.0)
-    assert np.array_equal(te.reflected.amplitude, tm.reflected.amplitude)
-    assert np.array_equal(te.transmitted.power, tm.transmitted.power)
+    te = solve(cell, inc, tol=1e-10, dtype=np.complex128)
+    tm = solve(cell, inc, tol=1e-10, dtype=np.complex128, polarisation="tm", eps_face=1.0,
+               tm_faces=preset)
+    for a, b in ((te.reflected, tm.reflected), (te.transmitted, tm.transmitted)):
+        assert np.allclose(a.power, b.power, rtol=1e-9, atol=1e-15)
+        assert np.allclose(np.abs(a.amplitude[a.propagating]), np.abs(b.amplitude[b.propagating]),
+                           rtol=1e-9, atol=1e-15)
+    faces = TM_FACE_PRESETS[preset]
+    sign = -1 if "e" in (faces.inner, faces.mean) else 1
+    assert tm.reflected.amp(0, 0) == pytest.approx(sign * te.reflected.amp(0, 0), abs=1e-12)
+    assert tm.absorbed == pytest.approx(te.absorbed, abs=1e-10)
 
 
 @pytest.mark.parametrize("sigma_deg", [0.0, 50.0])
@@ -82,7 +93,8 @@ def test_tm_and_te_differ_at_oblique_incidence():
 
 
 def test_reciprocity_of_tm_orders():
-    """amp(a → b)·ε_a/k_z,a = amp(b̄ → ā)·ε_b/k_z,b (flux normalisation k_z/ε of TM waves):
+    """Default face forms ('brewster'; E_x amplitudes scaled by the flux factors, faces.py).
+    amp(a → b)·ε_a/k_z,a = amp(b̄ → ā)·ε_b/k_z,b (flux normalisation k_z/ε of TM waves):
     reflection within one medium (the TE relation) and transmission between unequal
     half-spaces (where the ε factor matters: checked to fail without it)."""
     base = random_layer(1.4 + 0.1j, shape=(24, 24, 12))

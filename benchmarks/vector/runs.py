@@ -6,13 +6,13 @@ done; a rerun reads it.  Scalar units take seconds; they are cached the same way
 solver's grid and tolerance (delete the folder after a change of the scalar solver).
 
 Each unit stores, per incident polarisation (s, p): R, T (totals) and the 00 amplitudes
-r00, t00 [incident pol, outgoing pol] referenced at the layer's faces.  The scalar solver is
-TE (s) only until its TM (p) mode lands; then `scalar_polarisations()` reports both.
+r00, t00 [incident pol, outgoing pol] referenced at the layer's faces.  The scalar side caches
+TE and TM (per face-form preset, solver.wave.faces) separately, for each pigment permittivity
+model (MATERIALS).
 """
 
 from __future__ import annotations
 
-import inspect
 import math
 import time
 import warnings
@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from solver.geometry import eps_grid, voxelize
-from solver.wave import Cell, Incidence, solve
+from solver.wave import DEFAULT_TM_FACES, Cell, Incidence, solve
 
 from .cases import Case, host_eps, lmax_for, realization, sphere_eps
 
@@ -94,63 +94,66 @@ def vector_unit(case: Case, r: int, lam: float, sigma_deg: float, *, compute: bo
     return unit
 
 
-def scalar_polarisations() -> tuple[str, ...]:
-    """'s' always (TE); 'p' once solver.wave.solve takes polarisation='tm'."""
-    return ("s", "p") if "polarisation" in inspect.signature(solve).parameters else ("s",)
-
-
 def scalar_grid(case: Case) -> tuple[int, int, int]:
     n_xy = max(8, int(round(case.cell_nm / SCALAR_VOXEL_NM)))
     return n_xy, n_xy, int(round(case.thickness_nm / SCALAR_VOXEL_NM))
 
 
-def scalar_path(case: Case, r: int, lam: float, sigma_deg: float, variant: str = "plain") -> Path:
+#: Pigment permittivity models of the scalar side: 'volume' (the project's default: ε per voxel
+#: = volume mean of the materials) and 'localfield' (`eps_grid(..., local_field=True)`).
+MATERIALS = ("volume", "localfield")
+
+
+def scalar_path(case: Case, r: int, lam: float, sigma_deg: float, pol_key: str,
+                material: str = "volume") -> Path:
+    """pol_key: 'te' or 'tm-<faces preset>'."""
     nx, _, nz = scalar_grid(case)
-    pols = "".join(scalar_polarisations())
-    extra = "" if variant == "plain" else f"_{variant}"
+    extra = "" if material == "volume" else f"_{material}"
     return (CACHE / case.geometry_key /
-            f"scalar_r{r}_l{_tag(lam)}_s{_tag(sigma_deg)}_g{nx}x{nz}_{pols}{extra}.npz")
+            f"scalar_r{r}_l{_tag(lam)}_s{_tag(sigma_deg)}_g{nx}x{nz}_{pol_key}{extra}.npz")
 
 
-def local_field_eps(eps_particle: complex, eps_host: float) -> complex:
-    """Permittivity whose *scalar* contrast equals the vector dipole response of a small sphere:
-    ε' − ε_h = 3ε_h(ε − ε_h)/(ε + 2ε_h) (Clausius–Mossotti local-field factor).  An experiment,
-    not part of the project's scalar model: does this one correction close the gap?"""
-    return eps_host + 3 * eps_host * (eps_particle - eps_host) / (eps_particle + 2 * eps_host)
+def scalar_cell(case: Case, r: int, lam: float, material: str = "volume") -> Cell:
+    """The realization voxelised on the scalar grid, ε by the material model."""
+    if material not in MATERIALS:
+        raise ValueError(f"scalar material model must be one of {MATERIALS}, got {material!r}")
+    vox = voxelize(realization(case, r), scalar_grid(case))
+    eps = eps_grid(vox, lam, local_field=(material == "localfield"))
+    return Cell(eps, (case.cell_nm, case.cell_nm), vox.z_range_nm)
 
 
-VARIANTS = ("plain", "localfield")
-
-
-def scalar_unit(case: Case, r: int, lam: float, sigma_deg: float, variant: str = "plain") -> Unit:
-    """The project's scalar solver (solver.wave) on the same realization (cached).
-
-    variant 'plain': the project's model (ε per voxel = volume mean of the materials, eps_grid);
-    'localfield': the pigment's ε replaced by `local_field_eps`."""
-    if variant not in VARIANTS:
-        raise ValueError(f"scalar variant must be one of {VARIANTS}, got {variant!r}")
-    path = scalar_path(case, r, lam, sigma_deg, variant)
+def _scalar_pol(case: Case, r: int, lam: float, sigma_deg: float, pol: str, material: str,
+                tm_faces: str) -> Unit:
+    """One polarisation ('s' = TE, 'p' = TM with `tm_faces`) of a scalar unit (cached)."""
+    key = "te" if pol == "s" else f"tm-{tm_faces}"
+    path = scalar_path(case, r, lam, sigma_deg, key, material)
     if path.exists():
         return _load(path)
     t0 = time.perf_counter()
-    vox = voxelize(realization(case, r), scalar_grid(case))
-    if variant == "plain":
-        eps = eps_grid(vox, lam)
-    else:
-        frac = dict(zip(vox.materials, vox.fractions.astype(np.float64)))
-        eps = (frac["binder"] * host_eps() + frac["air"] * 1.0
-               + frac[case.pigment] * local_field_eps(sphere_eps(case, lam), host_eps()))
-    cell = Cell(eps, (case.cell_nm, case.cell_nm), vox.z_range_nm)
+    i = 0 if pol == "s" else 1
+    extra = {} if pol == "s" else {"polarisation": "tm", "tm_faces": tm_faces}
+    res = solve(scalar_cell(case, r, lam, material), Incidence(lam, math.radians(sigma_deg)),
+                tol=SCALAR_TOL, on_fail="raise", **extra)
     R, T = np.full(2, np.nan), np.full(2, np.nan)
     r00, t00 = np.full((2, 2), np.nan, complex), np.full((2, 2), np.nan, complex)
-    for i, pol in enumerate(("s", "p")):
-        if pol not in scalar_polarisations():
-            continue
-        kwargs = {"polarisation": "te" if pol == "s" else "tm"} if len(scalar_polarisations()) == 2 else {}
-        res = solve(cell, Incidence(lam, math.radians(sigma_deg)), tol=SCALAR_TOL, on_fail="raise", **kwargs)
-        R[i], T[i] = res.R, res.T
-        r00[i, i], t00[i, i] = res.reflected.amp(0, 0), res.transmitted.amp(0, 0)
-        r00[i, 1 - i] = t00[i, 1 - i] = 0.0          # a scalar field keeps its polarisation
-    unit = Unit(R, T, r00, t00, time.perf_counter() - t0, dict(grid=scalar_grid(case)))
+    R[i], T[i] = res.R, res.T
+    r00[i, i], t00[i, i] = res.reflected.amp(0, 0), res.transmitted.amp(0, 0)
+    r00[i, 1 - i] = t00[i, 1 - i] = 0.0          # a scalar field keeps its polarisation
+    unit = Unit(R, T, r00, t00, time.perf_counter() - t0,
+                dict(grid=scalar_grid(case), tm_faces=res.tm_faces))
     _save(path, unit)
     return unit
+
+
+def scalar_unit(case: Case, r: int, lam: float, sigma_deg: float, material: str = "volume",
+                tm_faces: str = DEFAULT_TM_FACES) -> Unit:
+    """The project's scalar solver (solver.wave) on the same realization, s = TE and p = TM
+    with the face forms `tm_faces` (a solver.wave.faces preset), each cached.
+
+    material 'volume': the project's model (ε per voxel = volume mean of the materials);
+    'localfield': pigments with the local-field permittivity (`eps_grid(local_field=True)`)."""
+    s = _scalar_pol(case, r, lam, sigma_deg, "s", material, tm_faces)
+    p = _scalar_pol(case, r, lam, sigma_deg, "p", material, tm_faces)
+    pick = lambda a, b: np.where(np.isnan(a), b, a)   # noqa: E731
+    return Unit(pick(s.R, p.R), pick(s.T, p.T), pick(s.r00, p.r00), pick(s.t00, p.t00),
+                s.seconds + p.seconds, dict(grid=scalar_grid(case), tm_faces=tm_faces))

@@ -2,7 +2,7 @@
 
 Lippmann–Schwinger equation on a layered background (half-space | slab ε_b | half-space),
 lateral pseudo-spectral Bloch harmonics, exact Galerkin z-integrals of the analytic Green's
-function, GMRES by default; TE or TM face conditions.  See docs/wave_solver.md and
+function, GMRES by default; TE or TM face conditions (TM: per-harmonic face forms, faces.py).  See docs/wave_solver.md and
 docs/design.md §1, §4.
 
     res = solve(Cell(eps, (Lx, Ly), (z_top, z_bottom)), Incidence(500.0, 0.3))
@@ -10,6 +10,7 @@ docs/design.md §1, §4.
     bg = prepare_background(shape, (Lx, Ly), H, 500.0, kx0, ky0, eps_b)   # shared by
     op = with_contrast(bg, cell)                                           # many realizations
 """
+from .faces import DEFAULT_TM_FACES, PRESETS as TM_FACE_PRESETS, TMFaces
 from .krylov import (BornDivergenceError, ConvergenceError, ConvergenceWarning,
                      WaveSolverError)
 from .operator import (DEFAULT_MIN_LOSS, Background, LayerOperator, prepare,
@@ -23,4 +24,4 @@ __all__ = ["Cell", "Incidence", "DiffractionResult", "OrderSet", "LayerOperator"
            "prepare", "prepare_background", "with_contrast", "solve", "solve_prepared",
            "bloch_vector", "BornDivergenceError", "ConvergenceError", "ConvergenceWarning",
            "WaveSolverError", "EnergyWarning", "EnergyClosureError", "DEFAULT_MIN_LOSS",
-           "ENERGY_BOUND", "DEFAULT_TOL"]
+           "ENERGY_BOUND", "DEFAULT_TOL", "TMFaces", "TM_FACE_PRESETS", "DEFAULT_TM_FACES"]

@@ -15,13 +15,18 @@ solve), the kernels being right.  `absorption` computes A independently by quadr
 ∫|u|² (3 Gauss points per z-cell, exact intra-cell field), a check of the kernels themselves:
 its E agrees with the closure's to ~1e-8 (tests).
 
-TM (faces with ε_f): the slab-side flux is (ε_f/ε_a)·∂_z u of the half-space side, so
+TM (per-harmonic face forms, faces.py): at a face the slab-side flux of a harmonic whose
+reported amplitude is a is Re(ψ)|a|² (ψ the face's flux coefficient; H_y faces: ψ = (ε_f/ε)k_z),
+and the incident 00 wave with reflection ρ carries Re(ψ_in)(1 − |ρ|²) + 2s·Im(ψ_in)·Im ρ
+(s = ±1, faces.py), so the scalar identity becomes
 
-    Re ε_f·(R + T − 1) + Im ε_f·Φ + ε_in·(a_V + A_b + Im⟨u, s⟩/N) = 0,
-    Φ = −2 Im(ρ_00) − Σ_top ε_in Im(k_z)|a|²/(ε_a k_z,inc) − Σ_bottom ε_in Im(k_z)|b|²/(ε_c k_z,inc)
+    Re ψ_in·(R + T − 1) + Φ + k_z,inc·(a_V + A_b + Im⟨u, s⟩/N) = 0,
+    Φ = −2s·Im(ψ_in)·Im(ρ) + Σ_non-propagating, both faces Re(ψ)|a|²
 
-(ρ_00 the specular amplitude; a, b the face amplitudes of every harmonic, evanescent ones
-included), hence A = (ε_in(a_V + A_b) + Im ε_f·Φ)/Re ε_f and E = (ε_in/Re ε_f)·E_TE.
+(powers R, T = Σ Re(ψ)|a|²/Re ψ_in over propagating orders), hence
+A = (k_z,inc·(a_V + A_b) + Φ)/Re ψ_in and E = (k_z,inc/Re ψ_in)·E_TE.  With H_y faces everywhere
+(the first TM model) this is Re ε_f·(R + T − 1) + Im ε_f·Φ' + ε_in·(…) = 0: the faces exchange
+energy only through Im ε_f.
 """
 from __future__ import annotations
 
@@ -35,15 +40,17 @@ from .vecops import dot
 
 #: Gauss–Legendre points per z-cell for ∫|u|²: the intra-cell field is smooth (exponentials
 #: plus a polynomial).  On a k = 1.1 slab at 60°, 32 cells per µm, the identity closes to
-#: 2e-7 (TE) / 1.3e-6 (TM) with 3 points, 2e-10 / 1.4e-9 with 4, 1e-15 with 6.
+#: 2e-7 (TE) / 3.2e-7 (TM, default faces) with 3 points, 2e-10 / 3.5e-10 with 4, 1e-15 with 6.
 GAUSS_POINTS = 4
 
 
-def _tm_factors(op: LayerOperator, from_below: bool) -> tuple[float, complex] | None:
-    """(ε_in, ε_f) for TM, None for TE."""
-    if op.polarisation != "tm":
+def _tm_scale(op: LayerOperator, from_below: bool, kz_inc: float) -> float | None:
+    """k_z,inc/Re ψ_in for per-harmonic face forms (TM), None for TE."""
+    faces = op.green.faces
+    if faces is None:
         return None
-    return (op.eps_below if from_below else op.eps_above), complex(op.eps_face)
+    psi_in = (faces[1] if from_below else faces[0]).psi[0, 0]
+    return kz_inc / float(psi_in.real)
 
 
 def _scale(op: LayerOperator, kz_inc: float) -> float:
@@ -55,21 +62,21 @@ def _scale(op: LayerOperator, kz_inc: float) -> float:
 def midpoint_absorption(op: LayerOperator, w: np.ndarray, from_below: bool,
                         kz_inc: float) -> float:
     """k0² Σ Im ε |ū|² ΔV / N from the cell averages (O(h²) below the scheme's A); TM: times
-    ε_in/Re ε_f."""
+    k_z,inc/Re ψ_in."""
     eps = np.asarray(op.cell.eps)
     a_mid = op.k0 ** 2 * _scale(op, kz_inc) * float(
         np.sum(eps.imag * np.abs(w[0].astype(np.complex128)) ** 2))
-    tm = _tm_factors(op, from_below)
-    return a_mid if tm is None else tm[0] * a_mid / tm[1].real
+    tm = _tm_scale(op, from_below, kz_inc)
+    return a_mid if tm is None else tm * a_mid
 
 
 def closure(op: LayerOperator, r: np.ndarray, f: np.ndarray, big_r: float, big_t: float,
             from_below: bool, kz_inc: float) -> tuple[float, float]:
     """(A, E) from the true residual r = b − (I − GV)w and f = V·w (see the module doc)."""
     e = -_scale(op, kz_inc) * dot(r.ravel(), f.ravel()).imag
-    tm = _tm_factors(op, from_below)
+    tm = _tm_scale(op, from_below, kz_inc)
     if tm is not None:
-        e *= tm[0] / tm[1].real
+        e *= tm
     return 1.0 - big_r - big_t + e, e
 
 
@@ -93,14 +100,17 @@ def slab_field_energy(op: LayerOperator, w_b_coef: complex, f: np.ndarray, from_
     return total * lx * ly / (nx * ny) ** 2
 
 
-def face_term(op: LayerOperator, refl: OrderSet, trans: OrderSet, from_below: bool,
-              kz_inc: float) -> float:
-    """Φ of the TM identity (module doc): the faces' share when ε_f is complex."""
-    eps_in = op.eps_below if from_below else op.eps_above
-    eps_out = op.eps_above if from_below else op.eps_below
-    evan = (np.sum(refl.kz.imag * np.abs(refl.amplitude) ** 2) / eps_in
-            + np.sum(trans.kz.imag * np.abs(trans.amplitude) ** 2) / eps_out)
-    return float(-2.0 * refl.amp(0, 0).imag - eps_in * evan / kz_inc)
+def face_term(op: LayerOperator, refl: OrderSet, trans: OrderSet, from_below: bool) -> float:
+    """Φ of the TM identity (module doc, 1/nm): what the faces exchange besides the orders'
+    powers (Im ψ of the incident wave, flux coefficients of the non-propagating harmonics)."""
+    faces = op.green.faces
+    f_in, f_out = (faces[1], faces[0]) if from_below else faces
+    psi_in, s_in = f_in.psi[0, 0], float(f_in.sign[0, 0])
+    total = -2.0 * s_in * psi_in.imag * refl.amp(0, 0).imag
+    for orders, face in ((refl, f_in), (trans, f_out)):
+        evan = ~orders.propagating
+        total += float(np.sum(face.psi.ravel()[evan].real * np.abs(orders.amplitude[evan]) ** 2))
+    return float(total)
 
 
 def absorption(op: LayerOperator, w: np.ndarray, f: np.ndarray, from_below: bool,
@@ -117,8 +127,7 @@ def absorption(op: LayerOperator, w: np.ndarray, f: np.ndarray, from_below: bool
     coef, _, _ = background_amplitudes(op.green, from_below)
     slab = slab_field_energy(op, complex(coef[0, 0]), f, from_below)
     a_scalar = a_contrast + op.k0 ** 2 * eb.imag * slab / (lx * ly * kz_inc)
-    tm = _tm_factors(op, from_below)
+    tm = _tm_scale(op, from_below, kz_inc)
     if tm is None:
         return a_scalar
-    eps_in, ef = tm
-    return (eps_in * a_scalar + ef.imag * face_term(op, refl, trans, from_below, kz_inc)) / ef.real
+    return tm * (a_scalar + face_term(op, refl, trans, from_below) / kz_inc)

@@ -12,7 +12,9 @@ both sides is, for 0 ≤ z, z′ ≤ H (κ = √(k0²ε_b − kt²), Im κ > 0):
 with the face admittances y_a = k_a, y_c = k_c for TE (u and ∂_z u continuous at the faces) and
 y_a = (ε_f/ε_a)·k_a, y_c = (ε_f/ε_c)·k_c for TM (u and ∂_z u/ε continuous, ε_f the slab's face
 permittivity): r_t = (κ/ε_f − k_a/ε_a)/(κ/ε_f + k_a/ε_a).  Every formula below holds for both
-with k → y (docs/wave_solver.md, "TM polarisation").
+with k → y (docs/wave_solver.md, "TM polarisation").  The TM mode's per-harmonic face forms
+(faces.py: TE, H_y or E_x conditions per class of harmonic) enter through `FaceCoefficients`:
+r_t, r_b from them, and face weights / background amplitudes in their general form.
 
 Every exponent has a non-negative argument, so every factor decays for evanescent harmonics;
 they are all taken from a table e^{iκjh}, j = 0…2nz, times e^{±iκs} inside a cell.  At a Wood
@@ -30,6 +32,7 @@ from typing import Iterator
 
 import numpy as np
 
+from .faces import FaceCoefficients
 from .zbasis import diag_galerkin, diag_point, diag_point_reflected, sign, single_integrals
 
 
@@ -52,6 +55,8 @@ class SlabGreen:
     kappa: κ in the slab; k_above, k_below: k_z in the half-spaces (1/nm); y_above, y_below:
     face admittances (k_z for TE, (ε_f/ε_half-space)·k_z for TM; 1/nm); r_top, r_bottom:
     internal reflection coefficients; denom: D; thickness_nm: H; nz cells; nb functions per cell.
+    faces: (top, bottom) FaceCoefficients of per-harmonic face forms (faces.py), or None for
+    the plain admittances (then y_above / y_below are used as above).
     """
 
     kappa: np.ndarray
@@ -65,6 +70,7 @@ class SlabGreen:
     nb: int
     y_above: np.ndarray
     y_below: np.ndarray
+    faces: tuple[FaceCoefficients, FaceCoefficients] | None = None
 
     @property
     def h_nm(self) -> float:
@@ -91,22 +97,29 @@ class SlabGreen:
 def slab_green(kappa: np.ndarray, k_above: np.ndarray, k_below: np.ndarray,
                thickness_nm: float, nz: int, nb: int = 2, *,
                face_ratio_above: complex | None = None,
-               face_ratio_below: complex | None = None) -> SlabGreen:
+               face_ratio_below: complex | None = None,
+               faces: tuple[FaceCoefficients, FaceCoefficients] | None = None) -> SlabGreen:
     """Reflection coefficients and the resonance denominator D for every harmonic.
 
-    face_ratio_above / _below: ε_f/ε_a and ε_f/ε_c for TM faces; None (TE): admittance = k_z.
+    face_ratio_above / _below: ε_f/ε_a and ε_f/ε_c (scalars or per-harmonic arrays) for
+    u = H_y faces; None (TE): admittance = k_z.  faces: per-harmonic face forms (faces.py);
+    they replace the ratios (then y_above / y_below hold the flux coefficients ψ).
     """
     if np.any(kappa.imag <= 0):
         raise ValueError("the background slab needs Im κ > 0 for every harmonic (Im ε_b > 0)")
     if nb not in (1, 2):
         raise ValueError("nb (functions per z-cell) must be 1 or 2")
-    ya = k_above if face_ratio_above is None else face_ratio_above * k_above
-    yc = k_below if face_ratio_below is None else face_ratio_below * k_below
-    rt = (kappa - ya) / (kappa + ya)
-    rb = (kappa - yc) / (kappa + yc)
+    if faces is not None:
+        ya, yc = faces[0].psi, faces[1].psi
+        rt, rb = faces[0].r, faces[1].r
+    else:
+        ya = k_above if face_ratio_above is None else face_ratio_above * k_above
+        yc = k_below if face_ratio_below is None else face_ratio_below * k_below
+        rt = (kappa - ya) / (kappa + ya)
+        rb = (kappa - yc) / (kappa + yc)
     denom = 1 - rt * rb * np.exp(2j * kappa * thickness_nm)
     return SlabGreen(kappa, k_above, k_below, rt, rb, denom, float(thickness_nm), int(nz), nb,
-                     ya, yc)
+                     ya, yc, faces)
 
 
 def circulant_blocks(sg: SlabGreen, offset_nm: float | None = None
@@ -203,8 +216,11 @@ def face_profiles(sg: SlabGreen, offset_nm: float | None = None
 
 def face_weights(sg: SlabGreen) -> tuple[np.ndarray, np.ndarray]:
     """c_top = i·h/((κ + y_a)D), c_bot = i·h/((κ + y_c)D) in nm: for a source with moments f,
-    u_s(0) = c_top·Σ_{q,l} p_top[q, l]·f[q, l] and u_s(H) = c_bot·Σ p_bot[q, l]·f[q, l]."""
+    u_s(0) = c_top·Σ_{q,l} p_top[q, l]·f[q, l] and u_s(H) = c_bot·Σ p_bot[q, l]·f[q, l].
+    With face forms (sg.faces): c = i·h·out/D, the reported outgoing amplitude (faces.py)."""
     h = sg.h_nm
+    if sg.faces is not None:
+        return (1j * h * sg.faces[0].out / sg.denom, 1j * h * sg.faces[1].out / sg.denom)
     return (1j * h / ((sg.kappa + sg.y_above) * sg.denom),
             1j * h / ((sg.kappa + sg.y_below) * sg.denom))
 
@@ -215,10 +231,17 @@ def background_amplitudes(sg: SlabGreen, from_below: bool
 
     Returns (coef, reflected, transmitted): the slab field is coef·p_top (from above) or
     coef·p_bot (from below); reflected/transmitted are the outgoing amplitudes on the face of
-    entry / exit.
+    entry / exit.  With face forms (sg.faces), in terms of the faces' coefficients
+    (faces.py): coef = launch_in/D, reflected = s_in·((1 − r_in)(1 + r_far e^{2iκH})/D − 1),
+    transmitted = 2κ·out_far·launch_in·e^{iκH}/D (amplitudes as reported: H_y for TM).
     """
     kap, rt, rb, big_h = sg.kappa, sg.r_top, sg.r_bottom, sg.thickness_nm
     e1 = np.exp(1j * kap * big_h)
+    if sg.faces is not None:
+        f_in, f_far = (sg.faces[1], sg.faces[0]) if from_below else sg.faces
+        coef = f_in.launch / sg.denom
+        refl = f_in.sign * ((1 - f_in.r) * (1 + f_far.r * e1 * e1) / sg.denom - 1)
+        return coef, refl, 2 * kap * f_far.out * f_in.launch * e1 / sg.denom
     k_in, r_far = (sg.y_below, rt) if from_below else (sg.y_above, rb)
     coef = 2 * k_in / ((kap + k_in) * sg.denom)
     return coef, coef * (1 + r_far * e1 * e1) - 1, coef * e1 * (1 + r_far)

@@ -21,6 +21,8 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.fft as sfft
 
+from .faces import (DEFAULT_TM_FACES, TMFaces, face_coefficients, harmonic_forms,
+                    parse_tm_faces)
 from .fftback import DEFAULT_FFT, FFT, aligned_empty, default_workers, get_fft
 from .kernel1d import (SlabGreen, circulant_blocks, face_profiles, slab_green,
                        vertical_wavenumber)
@@ -34,7 +36,7 @@ POLARISATIONS = ("te", "tm")
 
 __all__ = ["Background", "LayerOperator", "prepare_background", "prepare", "with_contrast",
            "choose_background", "apply_system", "apply_scattering", "apply_green", "Workspace",
-           "default_workers", "DEFAULT_MIN_LOSS", "POLARISATIONS"]
+           "default_workers", "DEFAULT_MIN_LOSS", "POLARISATIONS", "DEFAULT_TM_FACES"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -44,7 +46,8 @@ class Background:
     shape (nx, ny, nz); period_nm (Lx, Ly); thickness_nm H; eps_above / eps_below: the
     half-spaces; eps_background: ε_b of the slab as used (Im raised to min_loss);
     eps_nominal: ε_b as asked (before min_loss); polarisation 'te' | 'tm'; eps_face: ε_f of the
-    TM face conditions (None for TE).  Arrays of shape (nx, ny) are per lateral harmonic in FFT
+    TM face conditions (None for TE); tm_faces: the TM face forms per class of harmonic
+    (faces.TMFaces; None for TE).  Arrays of shape (nx, ny) are per lateral harmonic in FFT
     order (order indices m, n).  zk: reduced z-kernels; ptop, pbot: moments of the face
     profiles (kernel1d.face_profiles), (nb, nx, ny, nz) in dtype; fft: the FFT backend
     (fftback.py; its normalisation is folded into zk).
@@ -73,6 +76,7 @@ class Background:
     dtype: np.dtype
     workers: int
     fft: FFT
+    tm_faces: TMFaces | None = None
 
     @property
     def k0(self) -> float:
@@ -146,7 +150,8 @@ def prepare_background(shape: tuple[int, int, int], period_nm: tuple[float, floa
                        eps_below: float = 1.0, polarisation: str = "te",
                        eps_face: complex | None = None, min_loss: float = DEFAULT_MIN_LOSS,
                        z_order: int = 1, dtype: type = np.complex64,
-                       workers: int | None = None, fft: str = DEFAULT_FFT) -> Background:
+                       workers: int | None = None, fft: str = DEFAULT_FFT,
+                       tm_faces: "str | TMFaces" = DEFAULT_TM_FACES) -> Background:
     """The background of a grid `shape` = (nx, ny, nz) over a cell of `period_nm` (Lx, Ly) and
     `thickness_nm`, at `wavelength_nm` and Bloch vector (kx0, ky0) in 1/nm.
 
@@ -154,6 +159,11 @@ def prepare_background(shape: tuple[int, int, int], period_nm: tuple[float, floa
     eps_above / eps_below: real, positive half-space permittivities.  polarisation: 'te' (the
     scalar model is exact TE at the faces) or 'tm' (u and ∂_z u/ε continuous at the faces, with
     ε_f = eps_face for the slab, default: eps_background as given, without min_loss).
+    tm_faces: TM only, which face form each lateral harmonic gets (faces.py): a preset name
+    ('brewster', the default: u = E_x for harmonics below Brewster's wavevector, H_y above
+    it up to the light line, TE conditions for evanescent ones; 'all': H_y everywhere, the
+    first TM model; 'mean', 'propagating', 'electric', 'electric-mean',
+    'electric-propagating', 'hybrid') or a faces.TMFaces.
     z_order: polynomial degree per z-cell (1: O(h⁴) in z where ε is piecewise constant on
     z-cells; 0: cell averages only, O(h²)).  dtype: complex64 (default) or complex128 for the
     operator arrays and Krylov vectors (kernels are computed in complex128).  workers: FFT
@@ -172,8 +182,10 @@ def prepare_background(shape: tuple[int, int, int], period_nm: tuple[float, floa
         raise ValueError("eps_above and eps_below must be real and positive")
     nominal = complex(eps_background)
     eb = complex(nominal.real, max(nominal.imag, min_loss))
-    ef = None
-    if polarisation == "tm":
+    ef, faces = None, parse_tm_faces(tm_faces)
+    if polarisation != "tm":
+        faces = None
+    else:
         ef = nominal if eps_face is None else complex(eps_face)
         if not (ef.real > 0 and ef.imag >= 0 and math.isfinite(abs(ef))):
             raise ValueError(f"eps_face must have Re > 0 and Im ≥ 0, got {ef}")
@@ -187,9 +199,12 @@ def prepare_background(shape: tuple[int, int, int], period_nm: tuple[float, floa
     kap = vertical_wavenumber(k2 * eb, kt2)
     ka = vertical_wavenumber(k2 * ea, kt2)
     kc = vertical_wavenumber(k2 * ec, kt2)
-    ratios = (None, None) if ef is None else (ef / ea, ef / ec)
-    sg = slab_green(kap, ka, kc, float(thickness_nm), nz, z_order + 1,
-                    face_ratio_above=ratios[0], face_ratio_below=ratios[1])
+    face_coefs = None
+    if faces is not None:
+        form = harmonic_forms(faces, kt2, ka if ea >= ec else kc, ea, ec, ef, k0)
+        face_coefs = (face_coefficients(form, kap, ka, kt2, ea, ef, k0, top=True),
+                      face_coefficients(form, kap, kc, kt2, ec, ef, k0, top=False))
+    sg = slab_green(kap, ka, kc, float(thickness_nm), nz, z_order + 1, faces=face_coefs)
     w = default_workers() if workers is None else int(workers)
     backend = get_fft(fft, w)
     zk = z_kernels(sg, dt, lambda a: sfft.fft(a, axis=-1, workers=w, overwrite_x=True),
@@ -197,7 +212,8 @@ def prepare_background(shape: tuple[int, int, int], period_nm: tuple[float, floa
     ptop, pbot = face_profiles(sg)
     return Background((nx, ny, nz), (lx, ly), float(thickness_nm), ea, ec,
                       float(wavelength_nm), float(kx0), float(ky0), eb, nominal, polarisation, ef,
-                      m, n, kx, ky, sg, zk, ptop.astype(dt), pbot.astype(dt), dt, w, backend)
+                      m, n, kx, ky, sg, zk, ptop.astype(dt), pbot.astype(dt), dt, w, backend,
+                      faces)
 
 
 def with_contrast(bg: Background, cell: Cell) -> LayerOperator:
@@ -221,12 +237,13 @@ def prepare(cell: Cell, wavelength_nm: float, kx0: float, ky0: float, *,
             eps_background: complex | None = None, min_loss: float = DEFAULT_MIN_LOSS,
             z_order: int = 1, dtype: type = np.complex64, workers: int | None = None,
             polarisation: str = "te", eps_face: complex | None = None,
-            background: Background | None = None, fft: str = DEFAULT_FFT) -> LayerOperator:
+            background: Background | None = None, fft: str = DEFAULT_FFT,
+            tm_faces: "str | TMFaces" = DEFAULT_TM_FACES) -> LayerOperator:
     """Build the operator for one cell, wavelength (nm) and Bloch vector (kx0, ky0) in 1/nm.
 
     eps_background: ε_b of the background slab (default: volume mean of ε); its imaginary part
-    is raised to min_loss if smaller.  polarisation, eps_face, z_order, dtype, workers, fft: see
-    prepare_background.  background: a prepared Background to reuse (then ε_b, polarisation,
+    is raised to min_loss if smaller.  polarisation, eps_face, tm_faces, z_order, dtype,
+    workers, fft: see prepare_background.  background: a prepared Background to reuse (then ε_b, polarisation,
     z_order, dtype and workers are the background's, and the other arguments must not
     contradict it).
     """
@@ -241,7 +258,7 @@ def prepare(cell: Cell, wavelength_nm: float, kx0: float, ky0: float, *,
                             ky0, nominal, eps_above=complex(cell.eps_above).real,
                             eps_below=complex(cell.eps_below).real, polarisation=polarisation,
                             eps_face=eps_face, min_loss=min_loss, z_order=z_order, dtype=dtype,
-                            workers=workers, fft=fft)
+                            workers=workers, fft=fft, tm_faces=tm_faces)
     return with_contrast(bg, cell)
 
 

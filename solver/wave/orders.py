@@ -3,7 +3,7 @@
 Reference planes: a wave leaving through the top face is referenced to z_top, one leaving
 through the bottom face to z_bottom, and the incident wave has unit amplitude on its face of
 entry.  With this choice the scattering amplitudes obey amp(a→b)/k_z,a = amp(b̄→ā)/k_z,b, where
-b̄ is the reversed direction (DESIGN §1, reciprocity).
+b̄ is the reversed direction (docs/design.md §1, reciprocity).
 """
 from __future__ import annotations
 
@@ -70,12 +70,17 @@ def face_amplitudes(op: LayerOperator, f: np.ndarray) -> tuple[np.ndarray, np.nd
 
 
 def _order_set(op: LayerOperator, amp: np.ndarray, kz: np.ndarray, kz_inc: float,
-               weight: float) -> OrderSet:
+               face=None, face_in=None) -> OrderSet:
+    """face None: TE powers (kz/kz_inc)|amp|²; else (TM, faces.py) Re ψ|amp|²/Re ψ_in and the
+    propagating amplitudes rescaled by √(f/f_in) (f the faces' flux factors)."""
     prop = (kz.imag == 0) & (kz.real >= 0)
     kzr = np.where(prop, kz.real, 0.0)
-    power = np.where(prop, kzr / kz_inc * np.abs(amp) ** 2, 0.0)
-    if weight != 1.0:
-        power *= weight
+    if face is None:
+        power = np.where(prop, kzr / kz_inc * np.abs(amp) ** 2, 0.0)
+    else:
+        power = np.where(prop, face.psi.real / face_in.psi[0, 0].real * np.abs(amp) ** 2, 0.0)
+        scale = np.sqrt(face.flux_factor / face_in.flux_factor[0, 0])
+        amp = np.where(prop, amp * scale, amp)
     kt = np.hypot(op.kx, op.ky)
     theta = np.where(prop, np.arctan2(kt, kzr), math.pi / 2)
     phi = np.arctan2(op.ky, op.kx)
@@ -88,8 +93,9 @@ def diffraction_orders(op: LayerOperator, f: np.ndarray, from_below: bool
     """(reflected, transmitted, kz_inc) for incidence from above (below).
 
     Reflected orders leave through the face of entry, transmitted through the other face;
-    the 00 orders include the background's Airy reflection/transmission.  TM powers carry
-    ε_in/ε_exit (the flux of a TM wave is ∝ Re(k_z/ε)·|u|²).
+    the 00 orders include the background's Airy reflection/transmission.  TM powers are
+    Re(ψ)|a|²/Re(ψ_inc) with the faces' flux coefficients (faces.py; for H_y faces on both
+    sides: ε_in/ε_exit·(k_z/k_z,inc)|a|², the flux of a TM wave being ∝ Re(k_z/ε)·|H|²).
     """
     top, bot = face_amplitudes(op, f)
     _, refl_b, trans_b = background_amplitudes(op.green, from_below)
@@ -101,8 +107,9 @@ def diffraction_orders(op: LayerOperator, f: np.ndarray, from_below: bool
     refl[0, 0] += refl_b[0, 0]
     trans[0, 0] += trans_b[0, 0]
     kz_inc = float(k_in[0, 0].real)
-    eps_in, eps_out = (op.eps_below, op.eps_above) if from_below else (op.eps_above,
-                                                                       op.eps_below)
-    weight = eps_in / eps_out if op.polarisation == "tm" else 1.0
-    return (_order_set(op, refl, k_in, kz_inc, 1.0), _order_set(op, trans, k_out, kz_inc, weight),
-            kz_inc)
+    faces = g.faces
+    if faces is None:
+        return (_order_set(op, refl, k_in, kz_inc), _order_set(op, trans, k_out, kz_inc), kz_inc)
+    f_in, f_out = (faces[1], faces[0]) if from_below else faces
+    return (_order_set(op, refl, k_in, kz_inc, f_in, f_in),
+            _order_set(op, trans, k_out, kz_inc, f_out, f_in), kz_inc)

@@ -8,6 +8,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from .faces import DEFAULT_TM_FACES, TMFaces, preset_name
 from .energy import absorption, closure, midpoint_absorption
 from .fftback import DEFAULT_FFT
 from .kernel1d import background_amplitudes
@@ -55,7 +56,8 @@ class DiffractionResult:
     explicit residual.  kz_incident: k_z of the incident wave in its medium (1/nm), the power
     normalisation.  field: total field u (with its Bloch phase) at the voxel centres as z-cell
     averages, if asked.  solution: the solved moments w (nb, nx, ny, nz), the warm start x0
-    for a neighbouring solve.  polarisation: 'te' or 'tm'.
+    for a neighbouring solve.  polarisation: 'te' or 'tm'; tm_faces: the TM face forms
+    (faces.py preset name, or 'inner=…,outer=…,evanescent=…,mean=…'), None for TE.
     """
 
     wavelength_nm: float
@@ -83,6 +85,7 @@ class DiffractionResult:
     solution: np.ndarray | None = None
     polarisation: str = "te"
     energy_check: str = "residual"
+    tm_faces: str | None = None
 
 
 def _gmres_restart(b: np.ndarray) -> int:
@@ -191,7 +194,8 @@ def solve_prepared(op: LayerOperator, from_below: bool = False, *, tol: float = 
         refl.pwr(0, 0), trans.pwr(0, 0), a_exact, a_mid, big_r + big_t + a_exact - 1.0,
         out.applications, out.residuals, out.true_residual, out.converged,
         out.method, time.perf_counter() - t0, op.eps_background, kz_inc, field, w,
-        op.polarisation, check)
+        op.polarisation, check,
+        None if op.tm_faces is None else preset_name(op.tm_faces))
     where = (f"(λ = {op.wavelength_nm:g} nm, Bloch vector ({op.kx0:.6g}, {op.ky0:.6g}) 1/nm, "
              f"from {'below' if from_below else 'above'}, {op.polarisation.upper()}, grid "
              f"{op.shape})")
@@ -221,13 +225,14 @@ def solve(cell: Cell, incidence: Incidence, *, tol: float = DEFAULT_TOL, method:
           min_loss: float = DEFAULT_MIN_LOSS, z_order: int = 1, dtype: type | None = None,
           workers: int | None = None, polarisation: str = "te",
           eps_face: complex | None = None, background: Background | None = None,
-          fft: str = DEFAULT_FFT) -> DiffractionResult:
+          fft: str = DEFAULT_FFT, tm_faces: "str | TMFaces" = DEFAULT_TM_FACES
+          ) -> DiffractionResult:
     """Diffraction of a unit plane wave by one periodic cell (see solve_prepared, prepare).
 
     For several incidences with the same Bloch vector (above and below), call prepare() once
     and solve_prepared() per side.  The returned `seconds` include the preparation.
     dtype None: complex64 when tol ≥ 1e-5 (its rounding floor is ~1e-6), else complex128.
-    polarisation 'te' | 'tm', eps_face: the face conditions; fft: 'scipy' | 'fftw' | 'auto'
+    polarisation 'te' | 'tm', eps_face, tm_faces: the face conditions; fft: 'scipy' | 'fftw' | 'auto'
     (operator.prepare_background).
     """
     if dtype is None:
@@ -236,7 +241,8 @@ def solve(cell: Cell, incidence: Incidence, *, tol: float = DEFAULT_TOL, method:
     kx0, ky0 = bloch_vector(cell, incidence)
     op = prepare(cell, incidence.wavelength_nm, kx0, ky0, eps_background=eps_background,
                  min_loss=min_loss, z_order=z_order, dtype=dtype, workers=workers,
-                 polarisation=polarisation, eps_face=eps_face, background=background, fft=fft)
+                 polarisation=polarisation, eps_face=eps_face, background=background, fft=fft,
+                 tm_faces=tm_faces)
     res = solve_prepared(op, incidence.from_below, tol=tol, method=method, maxiter=maxiter,
                          restart=restart, on_fail=on_fail, return_field=return_field,
                          exact_energy=exact_energy, energy_bound=energy_bound, x0=x0,
