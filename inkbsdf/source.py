@@ -26,7 +26,8 @@ def resolve_path(filename: str) -> Path:
 #: Scene parameters of an in-scene ink (instead of `filename`) → `table_request` arguments.
 REQUEST_PARAMS = {"ink": "ink", "particles": "particles", "thickness": "thickness_nm",
                   "accuracy": "accuracy", "polarisation": "polarisation", "realizations": "realizations",
-                  "tolerance": "tolerance", "seed": "seed", "tier": "tier", "target_se": "target_se"}
+                  "tolerance": "tolerance", "seed": "seed", "tier": "tier", "target_se": "target_se",
+                  "local_field": "local_field"}
 _INTEGER_PARAMS = ("realizations", "seed", "workers")
 
 #: worker processes for tables that scene loads build (set by `set_build_workers`)

@@ -14,6 +14,7 @@ the plugin clamps at render time.
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 from dataclasses import dataclass, field
 from functools import lru_cache
@@ -67,21 +68,38 @@ def base_parts(code: str) -> tuple[tuple[str, float], ...]:
     return get_pigment(code).parts or ((code, 1.0),)
 
 
+def local_field_eps(eps_particle, eps_host):
+    """ε' = ε_h + 3ε_h(ε_p − ε_h)/(ε_p + 2ε_h): the permittivity whose scalar contrast equals the
+    dipole response of a small sphere ε_p in a host ε_h (the field inside it is 3ε_h/(ε_p + 2ε_h)
+    times the outside one).  Exact for spheres small against the wavelength in the pigment
+    (docs/vector_referee.md: what it does to the colour against Maxwell's equations)."""
+    return eps_host + 3 * eps_host * (eps_particle - eps_host) / (eps_particle + 2 * eps_host)
+
+
 @dataclass(frozen=True, eq=False)
 class MaterialData:
-    """Binder and pigment constants and k(λ) spectra; `fingerprint` identifies the numbers."""
+    """Binder and pigment constants and k(λ) spectra; `fingerprint` identifies the numbers.
+
+    local_field: pigments enter as grains in the binder with their local-field permittivity
+    (`local_field_eps`); off for molecular inks (dissolved pigment)."""
 
     binder_index: float
     pigment_real_index: float
     wavelengths_nm: np.ndarray = field(repr=False)          # [n] strictly increasing
     k: dict = field(repr=False)                             # base code → k [n]
     source: str = "package data"
+    local_field: bool = False
+
+    def with_local_field(self) -> "MaterialData":
+        return dataclasses.replace(self, local_field=True)
 
     @property
     def fingerprint(self) -> str:
         h = hashlib.sha256()
         h.update(repr((float(self.binder_index), float(self.pigment_real_index),
                        sorted((c, p.parts) for c, p in PIGMENTS.items()))).encode())
+        if self.local_field:
+            h.update(b"local-field pigments")
         h.update(np.ascontiguousarray(self.wavelengths_nm, dtype=np.float64).tobytes())
         for code in sorted(self.k):
             h.update(code.encode() + np.ascontiguousarray(self.k[code], dtype=np.float64).tobytes())
@@ -116,10 +134,15 @@ class MaterialData:
         return np.interp(np.asarray(wavelength_nm, dtype=float), self.wavelengths_nm, self.k[code])
 
     def pigment_eps(self, code: str, wavelength_nm) -> np.ndarray:
-        """Relative permittivity ε = η² of a pigment (mixes ε-weighted) at λ in nm."""
+        """Relative permittivity ε = η² of a pigment (mixes ε-weighted) at λ in nm; with
+        local_field, the local-field permittivity of its grains in the binder."""
+        eps = self._bulk_eps(code, wavelength_nm)      # a G grain: the Y–B mix, then its local field
+        return local_field_eps(eps, self.binder_eps(wavelength_nm)) if self.local_field else eps
+
+    def _bulk_eps(self, code: str, wavelength_nm) -> np.ndarray:
         pig = get_pigment(code)
         if pig.parts:
-            return sum(w * self.pigment_eps(c, wavelength_nm) for c, w in pig.parts)
+            return sum(w * self._bulk_eps(c, wavelength_nm) for c, w in pig.parts)
         return (self.pigment_real_index + 1j * self.pigment_k(code, wavelength_nm)) ** 2
 
 

@@ -138,3 +138,19 @@ def test_stacks_parse_into_layers():
     assert [l.thickness_nm for l in req.layers] == [800.0, 1000.0] and req.thickness_nm == 1800.0
     with pytest.raises(RequestError, match="--thickness"):
         table_request("Y15/B15", thickness_nm=(800.0, 900.0, 1000.0))
+
+
+def test_local_field_is_part_of_the_request_and_of_the_materials():
+    from solver.materials import local_field_eps
+
+    plain, lf = table_request("G15", "sphere:100"), table_request("G15", "sphere:100", local_field=True)
+    assert lf.key() != plain.key() and lf.materials.fingerprint != plain.materials.fingerprint
+    wl = np.array([450.0, 600.0])
+    binder = plain.materials.binder_eps(wl)
+    # a G grain is the molecular Y–B mix, corrected once as a grain
+    want = local_field_eps(0.5 * (plain.materials.pigment_eps("Y", wl) + plain.materials.pigment_eps("B", wl)), binder)
+    np.testing.assert_allclose(lf.materials.pigment_eps("G", wl), want, rtol=1e-12)
+    with pytest.raises(RequestError, match="--local-field"):
+        table_request("Y15/B15", "sphere:100/molecular", local_field=True)
+    with pytest.raises(RequestError, match="--local-field"):
+        table_request("G15", "sphere:100", local_field="yes")

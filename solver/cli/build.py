@@ -47,6 +47,9 @@ def add_request_arguments(p: argparse.ArgumentParser) -> None:
                         "(starting from --realizations, at most --max-realizations)")
     g.add_argument("--max-realizations", type=int, default=None,
                    help=f"cap for --target-se (default {_WAVE.max_realizations})")
+    g.add_argument("--local-field", action="store_true", default=None,
+                   help="grains with their local-field permittivity ε' = ε_h + 3ε_h(ε_p − ε_h)/(ε_p + 2ε_h) "
+                        "(closer to Maxwell's equations for spheres: docs/vector_referee.md)")
     g.add_argument("--azimuths", type=int, default=None,
                    help=f"incidence azimuths per realization (default {_WAVE.azimuths})")
     g.add_argument("--tolerance", type=float, default=None,
@@ -93,7 +96,7 @@ def request_from_args(args) -> TableRequest:
         ("realizations", args.realizations), ("azimuths", args.azimuths), ("tolerance", args.tolerance),
         ("tier", args.tier), ("cell_nm", args.cell), ("grid", tuple(args.grid) if args.grid else None),
         ("solver_tol", args.solver_tol), ("seed", args.seed), ("target_se", args.target_se),
-        ("max_realizations", args.max_realizations)) if value is not None}
+        ("max_realizations", args.max_realizations), ("local_field", args.local_field)) if value is not None}
     return table_request(
         args.ink, args.particles, thickness_nm=thickness, accuracy=args.accuracy,
         wavelengths_nm=wavelength_range(args.wavelengths) if args.wavelengths else None,

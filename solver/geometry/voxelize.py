@@ -176,19 +176,15 @@ def voxelize(realization, shape=(128, 128, 64), lines=None) -> VoxelFractions:
                           clipped)
 
 
-def local_field_eps(eps_particle: complex, eps_host: complex) -> complex:
-    """ε' = ε_h + 3ε_h(ε_p − ε_h)/(ε_p + 2ε_h): the permittivity whose scalar contrast equals the
-    dipole response of a small sphere ε_p in a host ε_h (the field inside it is 3ε_h/(ε_p + 2ε_h)
-    times the outside one).  Exact for spheres small against the wavelength in the pigment."""
-    return eps_host + 3 * eps_host * (eps_particle - eps_host) / (eps_particle + 2 * eps_host)
-
-
 def eps_grid(vox: VoxelFractions, wavelength_nm: float, materials: MaterialData | None = None,
              *, local_field: bool = False) -> np.ndarray:
     """Complex permittivity per voxel (nx, ny, nz) at one wavelength: Σ f_m ε_m(λ)
     (material data: the package's unless given).  local_field: pigments enter with
-    `local_field_eps(ε_pigment, ε_binder)` (module doc; opt-in, default off)."""
+    `materials.local_field_eps(ε_pigment, ε_binder)` (module doc; opt-in; a request's material
+    data can carry it too: `MaterialData.with_local_field`)."""
     data = materials or default_materials()
+    if local_field:
+        data = data.with_local_field()
     eps = np.zeros(vox.shape, dtype=np.complex128)
     for name, frac in zip(vox.materials, vox.fractions):
         if name == "binder":
@@ -197,7 +193,5 @@ def eps_grid(vox: VoxelFractions, wavelength_nm: float, materials: MaterialData 
             value = complex(AIR_EPS)
         else:
             value = complex(data.pigment_eps(name, wavelength_nm))
-            if local_field:
-                value = local_field_eps(value, complex(data.binder_eps(wavelength_nm)))
         eps += value * frac
     return eps

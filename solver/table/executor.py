@@ -87,8 +87,9 @@ def main_is_guarded() -> bool:
     import __main__
 
     path = getattr(__main__, "__file__", None)
-    if path is None:
-        return True                         # interactive: nothing is re-run in a spawned worker
+    spec = getattr(__main__, "__spec__", None)
+    if path is None or (spec is not None and spec.name.endswith(".__main__")):
+        return True          # interactive, or `python -m package`: spawn does not re-run either
     try:
         text = open(path, encoding="utf-8", errors="replace").read()
     except OSError:

@@ -68,6 +68,7 @@ class WaveSettings:
     tier: str = "auto"
     target_se: float | None = None             # add realizations until max SE(Rbar, Tbar) ≤ this
     max_realizations: int = 64                 # … but never more than this
+    local_field: bool = False                  # grains with their local-field ε (materials.py)
 
 
 #: accuracy presets of particle inks (wave settings and wavelength step); docs/tables.md has
@@ -84,6 +85,7 @@ OPTION = {"thickness_nm": "--thickness", "wavelengths_nm": "--wavelengths", "sig
           "tolerance": "--tolerance", "seed": "--seed", "tier": "--tier",
           "polarisation": "--polarisation", "accuracy": "--accuracy", "particles": "--particles",
           "target_se": "--target-se", "max_realizations": "--max-realizations",
+          "local_field": "--local-field",
           "ink": "--ink"}
 MIN_GRID = (8, 8, 4)
 
@@ -326,7 +328,13 @@ def table_request(ink, particles="molecular", *, thickness_nm=None, accuracy: st
         warnings.warn(f"{'/'.join(l.ink.label for l in layers)} is molecular (an exact thin film): "
                       f"{', '.join(OPTION.get(k, k) for k in sorted(set(wave_overrides) - {'tier'}))} "
                       "ignored", stacklevel=2)
-    req = TableRequest(layers, grids, wave, polarisation, materials or default_materials(), accuracy)
+    materials = materials or default_materials()
+    if wave is not None and wave.local_field:
+        if any(layer.molecular for layer in layers):
+            raise RequestError("--local-field corrects grains; a stack with molecular (dissolved) layers "
+                               "cannot take it")
+        materials = materials.with_local_field()
+    req = TableRequest(layers, grids, wave, polarisation, materials, accuracy)
     validate(req)
     return req
 
@@ -396,6 +404,8 @@ def validate(req: TableRequest) -> None:
                            f"({w.realizations}), got {w.max_realizations!r}")
     if not isinstance(w.seed, (int, np.integer)) or w.seed < 0:
         raise RequestError(f"{OPTION['seed']} must be an integer ≥ 0, got {w.seed!r}")
+    if not isinstance(w.local_field, (bool, np.bool_)):
+        raise RequestError(f"{OPTION['local_field']} is on or off (a boolean), got {w.local_field!r}")
     if w.tier not in TIERS:
         raise RequestError(f"{OPTION['tier']} {w.tier!r}: choose one of {', '.join(TIERS)}")
     if w.tier == "thin-film":
