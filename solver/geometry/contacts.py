@@ -21,59 +21,13 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.spatial import cKDTree
 
+from .neighbours import min_image
 from .shapes import Bodies
 
 #: Pattern-search directions and iterations for the cylinder separating axis.
 _SEARCH_DIRECTIONS = 8
 _SEARCH_ITERATIONS = 60
-
-
-def wrap_xy(centres: np.ndarray, period_nm: tuple[float, float]) -> np.ndarray:
-    """Centres with x, y brought into [0, L)."""
-    out = np.array(centres, dtype=float, copy=True)
-    for k in (0, 1):
-        out[:, k] = np.mod(out[:, k], period_nm[k])
-        out[out[:, k] >= period_nm[k], k] = 0.0
-    return out
-
-
-def min_image(d: np.ndarray, period_nm: tuple[float, float]) -> np.ndarray:
-    """Nearest periodic image of separation vectors d (..., 3) in x and y (in place, returned)."""
-    for k in (0, 1):
-        d[..., k] -= period_nm[k] * np.round(d[..., k] / period_nm[k])
-    return d
-
-
-def neighbour_pairs(centres: np.ndarray, cutoff_nm: float, period_nm: tuple[float, float]):
-    """All pairs i < j whose centres lie closer than cutoff (periodic in x, y; not in z)."""
-    if len(centres) < 2:
-        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
-    tree = cKDTree(wrap_xy(centres, period_nm), boxsize=[period_nm[0], period_nm[1], 0.0])
-    pairs = tree.query_pairs(cutoff_nm, output_type="ndarray")
-    return pairs[:, 0].astype(np.int64), pairs[:, 1].astype(np.int64)
-
-
-def cross_pairs(centres_a: np.ndarray, centres_b: np.ndarray, cutoff_nm: float, period_nm, k: int = 16):
-    """Pairs (ia, ib) between two point sets whose centres lie closer than cutoff
-    (k-nearest queries, k doubled for the points that have more neighbours than k)."""
-    if len(centres_a) == 0 or len(centres_b) == 0:
-        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
-    tree = cKDTree(wrap_xy(centres_b, period_nm), boxsize=[period_nm[0], period_nm[1], 0.0])
-    query = wrap_xy(centres_a, period_nm)
-    rows = np.arange(len(query))
-    out_a, out_b = [], []
-    while rows.size:
-        kk = min(k, len(centres_b))
-        dist, idx = tree.query(query[rows], k=kk, distance_upper_bound=cutoff_nm)
-        dist, idx = dist.reshape(len(rows), kk), idx.reshape(len(rows), kk)
-        full = np.isfinite(dist[:, -1]) & (kk < len(centres_b))
-        hit = np.isfinite(dist) & ~full[:, None]
-        out_a.append(np.broadcast_to(rows[:, None], hit.shape)[hit])
-        out_b.append(idx[hit])
-        rows, k = rows[full], 2 * k
-    return np.concatenate(out_a).astype(np.int64), np.concatenate(out_b).astype(np.int64)
 
 
 @dataclass(frozen=True, eq=False)

@@ -24,7 +24,8 @@ import numpy as np
 
 from .agglutination import AgglutinationStats, agglutinate
 from .limits import RSA_FRACTION, reachable_limit
-from .packing import ROTATION, PackStats, pack
+from .motion import ROTATION
+from .packing import PackStats, pack
 from .rsa import random_positions, rsa
 from .shapes import Bodies, sample_orientations
 from .statistics import find_overlaps_of

@@ -14,7 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .contacts import cross_pairs, neighbour_pairs, separation
+from .contacts import separation
+from .neighbours import cross_pairs, neighbour_pairs
 from .shapes import Bodies
 from .walls import Walls
 
