@@ -26,6 +26,7 @@ Tonge et al. 2012: a step that never overshoots).  It stops when the largest vio
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -99,15 +100,21 @@ def _system(contacts: Contacts, body: BodyRows, n: int, rotating: bool):
                  3 * n + (3 * body.k[:, None] + xyz).ravel()]
         vals += [-contacts.lever_i.ravel(), contacts.lever_j.ravel(),
                  (body.turn if body.turn is not None else np.zeros((r, 3))).ravel()]
-    return csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-                      shape=(c + r, (6 if rotating else 3) * n))
+    jac = csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                     shape=(c + r, (6 if rotating else 3) * n))
+    jac.eliminate_zeros()                      # e.g. the x, y turns of in-plane rods
+    return jac
 
 
 def _fista(jac, gap, target, minv, count, lam, sweeps, tolerance):
-    """Accelerated projected gradient on the dual; returns (λ, sweeps done)."""
-    jac_t = jac.T.tocsr()
+    """Accelerated projected gradient on the dual; returns (λ, sweeps done).  Single precision
+    (the sweeps are memory bound; nm-scale gaps need no more)."""
     stiffness = jac.multiply(jac) @ (minv * count)
-    step = 1.0 / np.where(stiffness > 0, stiffness, np.inf)
+    step = (1.0 / np.where(stiffness > 0, stiffness, np.inf)).astype(np.float32)
+    jac = jac.astype(np.float32)
+    jac_t = jac.T.tocsr()
+    minv = minv.astype(np.float32)
+    gap, target, lam = gap.astype(np.float32), target.astype(np.float32), lam.astype(np.float32)
     lam_prev = lam
     momentum = 1.0
     done = 0
@@ -115,8 +122,8 @@ def _fista(jac, gap, target, minv, count, lam, sweeps, tolerance):
         if done % 10 == 0:
             if float(np.max(target - (gap + jac @ (minv * (jac_t @ lam))))) <= tolerance:
                 break
-        nxt = 0.5 * (1.0 + np.sqrt(1.0 + 4.0 * momentum * momentum))
-        y = lam + ((momentum - 1.0) / nxt) * (lam - lam_prev)
+        nxt = 0.5 * (1.0 + math.sqrt(1.0 + 4.0 * momentum * momentum))
+        y = lam + np.float32((momentum - 1.0) / nxt) * (lam - lam_prev)
         momentum = nxt
         new = np.maximum(0.0, y + (target - (gap + jac @ (minv * (jac_t @ y)))) * step)
         if float(np.sum((new - lam) * (y - new))) > 0.0:             # adaptive restart (no BLAS: its
@@ -157,6 +164,7 @@ def solve_contacts(contacts: Contacts, body_rows: BodyRows, inv_mass: np.ndarray
         if rotating:
             count = np.concatenate([count, count])
         lam, done = _fista(jac, gap_all[rows], target_all[rows], minv, count, lam_all[rows], sweeps, tolerance_nm)
+        lam = lam.astype(float)
         total += done
         lam_all[rows] = lam
         x = minv * (jac.T @ lam)

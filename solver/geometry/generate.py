@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .agglutination import AgglutinationStats, agglutinate
-from .limits import RSA_FRACTION, reachable_limit
+from .limits import PACK_START_FRACTION, RSA_FRACTION, reachable_limit
 from .motion import ROTATION
 from .packing import PackStats, pack
 from .rsa import random_positions, rsa
@@ -159,7 +159,9 @@ def _place(layer, bodies, walls, rng):
     spec = layer.particles
     target = layer.ink.total_fraction
     rsa_max = RSA_FRACTION[spec.shape]
-    scale0 = 1.0 if target <= rsa_max else (rsa_max / target) ** (1.0 / 3.0)
+    import os
+    start = float(os.environ.get("GEOM_START", PACK_START_FRACTION[spec.shape]))
+    scale0 = 1.0 if target <= rsa_max else (start / target) ** (1.0 / 3.0)
     res = rsa(bodies.scaled(scale0), walls, layer.cell_nm, rng)
     centres = res.centres
     axes = bodies.axes

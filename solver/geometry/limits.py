@@ -24,6 +24,10 @@ from .spec import LayerSpec, cylinder_radius_length
 #: Largest fraction placed by RSA alone (RSA jams at ≈ 38 % for spheres, lower for rods).
 RSA_FRACTION = {"sphere": 0.25, "cylinder": 0.15}
 
+#: Above RSA_FRACTION, RSA places the particles shrunk to fill this fraction, then the packer
+#: grows them (RSA slows down as it nears its jamming limit; growing is cheaper).
+PACK_START_FRACTION = {"sphere": 0.15, "cylinder": 0.15}
+
 #: Empirical limits of the packer (total volume fraction), see module doc.
 PACKER_LIMIT = {
     ("sphere", None): 0.58,

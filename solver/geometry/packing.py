@@ -46,6 +46,16 @@ from .walls import Walls
 import os
 _DEBUG = bool(os.environ.get('GEOM_DEBUG'))
 _prev = {}
+_T = {}
+_last = [0.0]
+
+
+def _tick(label):
+    if _DEBUG:
+        now = time.perf_counter()
+        _T[label] = _T.get(label, 0.0) + now - _last[0]
+        _last[0] = now
+
 __all__ = ["PackOptions", "PackStats", "ROTATION", "pack"]
 
 
@@ -58,11 +68,12 @@ class PackOptions:
     max_growth_rate: float = 0.04
     min_growth_rate: float = 0.0025
     grow_tolerance: float = 0.1     # grow only while max overlap < this × contact distance
-    sweeps: int = 200               # most sweeps of the contact solve per iteration
+    sweeps: int = 30                # most sweeps of the contact solve per iteration (per round)
     rounds: int = 3
+    search_below: float = 1.0
     tolerance: float = 0.25         # the solve stops when every gap is within this × margin of it
     max_iterations: int = 2000
-    search_iterations: int = 6      # cylinder separating-axis refinement per iteration
+    search_iterations: int = 2      # cylinder separating-axis refinement per iteration
     full_search_every: int = 8      # full axis search every k-th iteration (else warm local search)
     max_tilt: float = 0.35          # free rotation: largest angle (rad) from the drawn axis
     patience: int = 40              # iterations without progress before the horizontal escape
@@ -70,7 +81,7 @@ class PackOptions:
     wall_torque: bool = True        # walls push rods at their deepest point (they turn flat)
     max_shift: float = 0.2          # trust region: largest move per iteration (× mean radius)
     max_turn: float = 0.05          # trust region: largest turn per iteration (rad)
-    rotation_mode: str = "push"
+    rotation_mode: str = "auto"
     turn_relaxation: float = 1.2
 
 
@@ -142,6 +153,7 @@ def pack(bodies: Bodies, walls: Walls, centres: np.ndarray, period_nm, scale0: f
     while not converged and it < options.max_iterations:
         it += 1
         s_new = min(1.0, s * (1.0 + rate)) if grow else s
+        _tick('other')
         body_s = bodies.scaled(s_new)
         if options.wall_torque:
             axes = wall_contacts(xyz, body_s, walls, rotation)
@@ -150,8 +162,13 @@ def pack(bodies: Bodies, walls: Walls, centres: np.ndarray, period_nm, scale0: f
                 body_s = bodies.scaled(s_new)
         else:
             walls.clamp(xyz, body_s)
+        _tick('walls')
         i, j = pairs.pairs(xyz, reach_max * s_new, reach_max)
-        normal, gap = pair_normals_gaps(body_s, xyz, i, j, period_nm, pairs.hint, margin * s_new,
+        _tick('pairs')
+        if _DEBUG and it == int(os.environ.get('GEOM_SATDUMP', -1)):
+            import pickle
+            pickle.dump(dict(bodies=body_s, xyz=xyz.copy(), i=i, j=j, hint=pairs.hint, period=period_nm, margin=margin * s_new), open('/tmp/geomprof/sat.pkl', 'wb'))
+        normal, gap = pair_normals_gaps(body_s, xyz, i, j, period_nm, pairs.hint, options.search_below * margin * s_new,
                                         options.search_iterations, it % options.full_search_every == 0)
         if body_s.shape == "cylinder":
             pairs.hint = normal.T
@@ -170,8 +187,10 @@ def pack(bodies: Bodies, walls: Walls, centres: np.ndarray, period_nm, scale0: f
         if escape > 0 and rotation == "none":
             escape -= 1
             normal, gap = horizontal_escape(body_s, xyz, i, j, normal, gap, margin * s, period_nm)
+        _tick('sat')
         near = np.flatnonzero(gap < (margin + band) * s)
-        solve_rot = rotation if options.rotation_mode == "coupled" else "none"
+        mode = options.rotation_mode if options.rotation_mode != "auto" else ("push" if rotation == "free" else "coupled")
+        solve_rot = rotation if mode == "coupled" else "none"
         rows = contact_rows(body_s, xyz, i[near], j[near], normal[:, near].T, gap[near], period_nm, solve_rot)
         lo, hi = walls.centre_bounds(body_s)
         body_rows = wall_rows(xyz[2], lo, hi, band * s)
@@ -185,8 +204,10 @@ def pack(bodies: Bodies, walls: Walls, centres: np.ndarray, period_nm, scale0: f
         if solve_rot == "none" and rotation != "none":
             turned = push_apart(xyz.copy(), body_s, i[near], j[near], normal[:, near], gap[near], margin * s, period_nm,
                                 rotation, options.turn_relaxation, drawn_axes, tilt)
+        _tick('rows')
         moves = solve_contacts(rows, body_rows, inv_mass, None if inv_inertia is None else inv_inertia / s**2,
                                margin * s, options.sweeps, options.tolerance * margin * s, options.rounds)
+        _tick('solve')
         shift = _clip_rows(moves.shift_nm, options.max_shift * mean_r * s)
         xyz += shift.T
         if _DEBUG and (it % int(os.environ.get("GEOM_EVERY", 10)) == 0 or it < 5):
@@ -199,10 +220,13 @@ def pack(bodies: Bodies, walls: Walls, centres: np.ndarray, period_nm, scale0: f
             if tilt < np.pi:
                 axes = limit_tilt(axes, drawn_axes, tilt)
             bodies = Bodies(bodies.shape, bodies.radii_nm, bodies.half_lengths_nm, axes)
+        _tick('apply')
         if s < 1.0 and worst < options.grow_tolerance * contact * s:
             grow, rate = True, min(options.max_growth_rate, 1.5 * rate)
         else:
             grow, rate = False, max(options.min_growth_rate, 0.5 * rate)
+    if _DEBUG:
+        print('stage times', {k: round(v, 2) for k, v in _T.items() if k != 'walls_'})
     walls.clamp(xyz, bodies.scaled(s))
     out = np.empty((len(perm), 3))
     out[perm] = xyz.T
