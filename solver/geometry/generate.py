@@ -162,7 +162,11 @@ def _place(layer, bodies, walls, rng):
     import os
     start = float(os.environ.get("GEOM_START", PACK_START_FRACTION[spec.shape]))
     scale0 = 1.0 if target <= rsa_max else (start / target) ** (1.0 / 3.0)
-    res = rsa(bodies.scaled(scale0), walls, layer.cell_nm, rng)
+    if os.environ.get("GEOM_NORSA") and scale0 < 1.0:
+        from .rsa import RsaResult
+        res = RsaResult(random_positions(bodies.scaled(scale0), walls, layer.cell_nm, rng), np.ones(len(bodies), bool), 0)
+    else:
+        res = rsa(bodies.scaled(scale0), walls, layer.cell_nm, rng)
     centres = res.centres
     axes = bodies.axes
     stats = dict(rsa_tries=res.tries, rsa_placed=int(res.placed.sum()), rsa_scale=scale0, pack=None,

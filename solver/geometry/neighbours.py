@@ -82,7 +82,7 @@ class PairList:
             moved = np.sqrt(np.max(np.sum((xyz - self.ref) ** 2, axis=0), initial=0.0))
             stale = reach_nm + 2.0 * moved > self.cutoff
         if stale:
-            self.cutoff = min(reach_max_nm, 1.05 * reach_nm) + self.skin
+            self.cutoff = reach_max_nm + self.skin
             i, j = neighbour_pairs(xyz.T, self.cutoff, self.period)
             order = np.lexsort((j, i))
             self.i, self.j = i[order], j[order]

@@ -76,8 +76,8 @@ class PackOptions:
     search_iterations: int = 2      # cylinder separating-axis refinement per iteration
     full_search_every: int = 8      # full axis search every k-th iteration (else warm local search)
     max_tilt: float = 0.35          # free rotation: largest angle (rad) from the drawn axis
-    patience: int = 40              # iterations without progress before the horizontal escape
-    escape_iterations: int = 20     # iterations of horizontal pushes for near-vertical contacts
+    patience: int = 15              # iterations without progress before the horizontal escape
+    escape_iterations: int = 10     # iterations of horizontal pushes for near-vertical contacts
     wall_torque: bool = True        # walls push rods at their deepest point (they turn flat)
     max_shift: float = 0.2          # trust region: largest move per iteration (× mean radius)
     max_turn: float = 0.05          # trust region: largest turn per iteration (rad)
@@ -184,7 +184,7 @@ def pack(bodies: Bodies, walls: Walls, centres: np.ndarray, period_nm, scale0: f
             since += 1
         if since > options.patience:
             escape, since, escapes, best_worst = options.escape_iterations, 0, escapes + 1, np.inf
-        if escape > 0 and rotation == "none":
+        if escape > 0 and rotation != "free":
             escape -= 1
             normal, gap = horizontal_escape(body_s, xyz, i, j, normal, gap, margin * s, period_nm)
         _tick('sat')
