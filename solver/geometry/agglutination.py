@@ -46,8 +46,9 @@ class AgglutinationStats:
 def agglutinate(bodies: Bodies, walls: Walls, centres: np.ndarray, period_nm, strength_kT: float,
                 rng: np.random.Generator, rotation: str = "none",
                 options: AgglutinationOptions = AgglutinationOptions(),
-                pack_options: PackOptions = PackOptions(), reference_axes=None):
-    """Brownian dynamics with attraction; returns (centres, axes, stats), overlap-free."""
+                pack_options: PackOptions = PackOptions(), reference_axes=None, progress=None):
+    """Brownian dynamics with attraction; returns (centres, axes, stats), overlap-free.
+    progress(fraction) is called now and then when given (the steps count 0.8, the final pack 0.2)."""
     t0 = time.perf_counter()
     n = len(bodies)
     mean_d = 2.0 * float(np.mean(bodies.radii_nm)) if n else 1.0
@@ -61,7 +62,9 @@ def agglutinate(bodies: Bodies, walls: Walls, centres: np.ndarray, period_nm, st
     margin = pack_options.margin * 0.5 * mean_d
     verlet = PairList(period_nm, pack_options.skin * 0.5 * mean_d + options.cutoff * lam)
     vol = body.volumes_nm3
-    for _ in range(options.steps if n > 1 else 0):
+    for step in range(options.steps if n > 1 else 0):
+        if progress is not None and step % 50 == 0:
+            progress(0.8 * step / options.steps)
         i, j = verlet.pairs(xyz, reach, reach)
         normal, gap = pair_normals_gaps(body, xyz, i, j, period_nm, verlet.hint, margin,
                                         pack_options.search_iterations)
@@ -88,6 +91,7 @@ def agglutinate(bodies: Bodies, walls: Walls, centres: np.ndarray, period_nm, st
     out_axes[perm] = body.axes
     final_centres, final_axes, stats = pack(Bodies(bodies.shape, bodies.radii_nm, bodies.half_lengths_nm, out_axes),
                                             walls, out, period_nm, 1.0, pack_options, rotation,
-                                            reference_axes)
+                                            reference_axes,
+                                            None if progress is None else (lambda f: progress(0.8 + 0.2 * f)))
     return final_centres, final_axes, AgglutinationStats(strength_kT, options.steps,
                                                          time.perf_counter() - t0, stats)
