@@ -87,31 +87,72 @@ def wall_rows(z_now, z_lo, z_hi, band_nm) -> BodyRows:
 
 
 def _system(contacts: Contacts, body: BodyRows, n: int, rotating: bool):
-    """Sparse Jacobian (rows: pairs, then one-particle rows) with 3N (or 6N) columns."""
-    c, r = len(contacts), len(body)
-    xyz = np.arange(3)
-    rows = [np.repeat(np.arange(c), 3)] * 2 + [c + np.repeat(np.arange(r), 3)]
-    cols = [(3 * contacts.i[:, None] + xyz).ravel(), (3 * contacts.j[:, None] + xyz).ravel(),
-            (3 * body.k[:, None] + xyz).ravel()]
-    vals = [-contacts.normal.ravel(), contacts.normal.ravel(), body.shift.ravel()]
+    """Sparse Jacobian (rows: pairs, then one-particle rows) with 3N (or 6N) columns, built
+    directly in CSR form (float32): each pair row holds its two particles' shift columns and,
+    when rotating, their turn columns (only z when every lever is vertical: in-plane rods)."""
+    xyz = np.arange(3, dtype=np.int32)
+    i, j = contacts.i.astype(np.int32)[:, None], contacts.j.astype(np.int32)[:, None]
+    cols = [3 * i + xyz, 3 * j + xyz]
+    vals = [-contacts.normal, contacts.normal]
     if rotating:
-        rows += [np.repeat(np.arange(c), 3)] * 2 + [c + np.repeat(np.arange(r), 3)]
-        cols += [3 * n + (3 * contacts.i[:, None] + xyz).ravel(), 3 * n + (3 * contacts.j[:, None] + xyz).ravel(),
-                 3 * n + (3 * body.k[:, None] + xyz).ravel()]
-        vals += [-contacts.lever_i.ravel(), contacts.lever_j.ravel(),
-                 (body.turn if body.turn is not None else np.zeros((r, 3))).ravel()]
-    jac = csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-                     shape=(c + r, (6 if rotating else 3) * n))
-    jac.eliminate_zeros()                      # e.g. the x, y turns of in-plane rods
-    return jac
+        lever_i, lever_j = contacts.lever_i, contacts.lever_j
+        if not (np.any(lever_i[:, :2]) or np.any(lever_j[:, :2])):
+            cols += [3 * n + 3 * i + 2, 3 * n + 3 * j + 2]
+            vals += [-lever_i[:, 2:], lever_j[:, 2:]]
+        else:
+            cols += [3 * n + 3 * i + xyz, 3 * n + 3 * j + xyz]
+            vals += [-lever_i, lever_j]
+    pair_cols = np.concatenate(cols, axis=1).astype(np.int32)
+    pair_vals = np.concatenate(vals, axis=1).astype(np.float32)
+    k = body.k.astype(np.int32)[:, None]
+    body_cols = [3 * k + xyz]
+    body_vals = [body.shift]
+    if rotating:
+        body_cols.append(3 * n + 3 * k + xyz)
+        body_vals.append(body.turn if body.turn is not None else np.zeros((len(body), 3)))
+    body_cols = np.concatenate(body_cols, axis=1).astype(np.int32)
+    body_vals = np.concatenate(body_vals, axis=1).astype(np.float32)
+    width_p, width_b = pair_cols.shape[1], body_cols.shape[1]
+    indptr = np.concatenate([width_p * np.arange(len(contacts) + 1),
+                             width_p * len(contacts) + width_b * np.arange(1, len(body) + 1)])
+    return csr_matrix((np.concatenate([pair_vals.ravel(), body_vals.ravel()]),
+                       np.concatenate([pair_cols.ravel(), body_cols.ravel()]), indptr),
+                      shape=(len(contacts) + len(body), (6 if rotating else 3) * n))
 
 
-def _fista(jac, gap, target, minv, count, lam, sweeps, tolerance):
+def _row_owners(contacts: Contacts, body: BodyRows, rows: np.ndarray):
+    """(first particle, second particle or −1) of the given rows (pairs first, then one-particle rows)."""
+    c = len(contacts)
+    pair = rows < c
+    first = np.where(pair, contacts.i[np.where(pair, rows, 0)], body.k[np.where(pair, 0, rows - c)])
+    second = np.where(pair, contacts.j[np.where(pair, rows, 0)], -1)
+    return first, second
+
+
+def _stiffness(contacts: Contacts, body: BodyRows, rows, inv_mass, inv_inertia, count):
+    """Diagonal of J (M/count)⁻¹ Jᵀ for the given rows (mass splitting, module doc)."""
+    c = len(contacts)
+    pair = rows < c
+    pr, br = rows[pair], rows[~pair] - c
+    out = np.empty(rows.size)
+    i, j = contacts.i[pr], contacts.j[pr]
+    wi, wj = inv_mass[i] * count[i], inv_mass[j] * count[j]
+    if contacts.lever_i is not None:
+        wi = wi + np.einsum("pc,pc->p", contacts.lever_i[pr], contacts.lever_i[pr]) * inv_inertia[i] * count[i]
+        wj = wj + np.einsum("pc,pc->p", contacts.lever_j[pr], contacts.lever_j[pr]) * inv_inertia[j] * count[j]
+    out[pair] = wi + wj
+    k = body.k[br]
+    wk = np.einsum("pc,pc->p", body.shift[br], body.shift[br]) * inv_mass[k] * count[k]
+    if body.turn is not None and inv_inertia is not None:
+        wk = wk + np.einsum("pc,pc->p", body.turn[br], body.turn[br]) * inv_inertia[k] * count[k]
+    out[~pair] = wk
+    return out
+
+
+def _fista(jac, gap, target, minv, stiffness, lam, sweeps, tolerance):
     """Accelerated projected gradient on the dual; returns (λ, sweeps done).  Single precision
     (the sweeps are memory bound; nm-scale gaps need no more)."""
-    stiffness = jac.multiply(jac) @ (minv * count)
     step = (1.0 / np.where(stiffness > 0, stiffness, np.inf)).astype(np.float32)
-    jac = jac.astype(np.float32)
     jac_t = jac.T.tocsr()
     minv = minv.astype(np.float32)
     gap, target, lam = gap.astype(np.float32), target.astype(np.float32), lam.astype(np.float32)
@@ -157,23 +198,27 @@ def solve_contacts(contacts: Contacts, body_rows: BodyRows, inv_mass: np.ndarray
         rows = np.flatnonzero(active)
         if rows.size == 0:
             break
-        jac = jac_all[rows]
-        owners = np.concatenate([contacts.i[rows[rows < c]], contacts.j[rows[rows < c]],
-                                 body_rows.k[rows[rows >= c] - c]])
-        count = np.repeat(np.maximum(np.bincount(owners, minlength=n), 1).astype(float), 3)
-        if rotating:
-            count = np.concatenate([count, count])
-        lam, done = _fista(jac, gap_all[rows], target_all[rows], minv, count, lam_all[rows], sweeps, tolerance_nm)
+        if rows.size == active.size:
+            jac = jac_all
+            owners = np.concatenate([contacts.i, contacts.j, body_rows.k])
+        else:
+            jac = jac_all[rows]
+            first, second = _row_owners(contacts, body_rows, rows)
+            owners = np.concatenate([first, second[second >= 0]])
+        count = np.maximum(np.bincount(owners, minlength=n), 1).astype(float)
+        del owners
+        stiffness = _stiffness(contacts, body_rows, rows, inv_mass, inv_inertia, count)
+        lam, done = _fista(jac, gap_all[rows], target_all[rows], minv, stiffness, lam_all[rows], sweeps, tolerance_nm)
         lam = lam.astype(float)
         total += done
         lam_all[rows] = lam
-        x = minv * (jac.T @ lam)
-        short = target_all - (gap_all + jac_all @ x)
+        x = minv * (jac.T @ lam.astype(np.float32))
+        short = target_all - (gap_all + jac_all @ x.astype(np.float32))
         add = ~active & (short > tolerance_nm)
         if not add.any():
             break
         active |= add
-    short = target_all[:c] - (gap_all[:c] + jac_all[:c] @ x)
+    short = target_all[:c] - (gap_all[:c] + (jac_all @ x.astype(np.float32))[:c])
     residual = float(short.max(initial=0.0))
     shift = x[:3 * n].reshape(n, 3)
     turn = x[3 * n:].reshape(n, 3) if rotating else None

@@ -55,6 +55,11 @@ def _tick(label):
         now = time.perf_counter()
         _T[label] = _T.get(label, 0.0) + now - _last[0]
         _last[0] = now
+        import tracemalloc
+        if tracemalloc.is_tracing():
+            cur, peak = tracemalloc.get_traced_memory()
+            _T['mem_' + label] = max(_T.get('mem_' + label, 0), peak / 2**20)
+            tracemalloc.reset_peak()
 
 __all__ = ["PackOptions", "PackStats", "ROTATION", "pack"]
 
@@ -192,6 +197,12 @@ def pack(bodies: Bodies, walls: Walls, centres: np.ndarray, period_nm, scale0: f
         mode = options.rotation_mode if options.rotation_mode != "auto" else ("push" if rotation == "free" else "coupled")
         solve_rot = rotation if mode == "coupled" else "none"
         rows = contact_rows(body_s, xyz, i[near], j[near], normal[:, near].T, gap[near], period_nm, solve_rot)
+        n_gaps, n_near = gap.size, near.size
+        if solve_rot == "none" and rotation != "none":
+            turned = push_apart(xyz.copy(), body_s, i[near], j[near], normal[:, near], gap[near], margin * s, period_nm,
+                                rotation, options.turn_relaxation, drawn_axes, tilt)
+        if escape == 0:
+            normal = gap = near = None                  # free the all-pairs arrays before the solve
         lo, hi = walls.centre_bounds(body_s)
         body_rows = wall_rows(xyz[2], lo, hi, band * s)
         if tilt < np.pi:
@@ -201,9 +212,6 @@ def pack(bodies: Bodies, walls: Walls, centres: np.ndarray, period_nm, scale0: f
             pickle.dump(dict(rows=rows, body_rows=body_rows, inv_mass=inv_mass, inv_inertia=None if inv_inertia is None else inv_inertia / s**2, target=margin*s), open('/tmp/geomprof/dump.pkl', 'wb'))
         if solve_rot == "none":
             body_rows = BodyRows(body_rows.k, body_rows.shift, None, body_rows.gap)
-        if solve_rot == "none" and rotation != "none":
-            turned = push_apart(xyz.copy(), body_s, i[near], j[near], normal[:, near], gap[near], margin * s, period_nm,
-                                rotation, options.turn_relaxation, drawn_axes, tilt)
         _tick('rows')
         moves = solve_contacts(rows, body_rows, inv_mass, None if inv_inertia is None else inv_inertia / s**2,
                                margin * s, options.sweeps, options.tolerance * margin * s, options.rounds)
@@ -211,8 +219,8 @@ def pack(bodies: Bodies, walls: Walls, centres: np.ndarray, period_nm, scale0: f
         shift = _clip_rows(moves.shift_nm, options.max_shift * mean_r * s)
         xyz += shift.T
         if _DEBUG and (it % int(os.environ.get("GEOM_EVERY", 10)) == 0 or it < 5):
-            print(f"it {it} s {s:.4f} rate {rate:.4f} worst {worst:.3f} neg {(gap < 0).sum()} near {near.size} "
-                  f"pairs {gap.size} resid {moves.residual_nm:.3f} sw {moves.sweeps} ms {np.abs(moves.shift_nm).max():.2f} mt {0 if moves.turn is None else np.abs(moves.turn).max():.3f} t {time.perf_counter() - t0:.1f}", flush=True)
+            print(f"it {it} s {s:.4f} rate {rate:.4f} worst {worst:.3f} near {n_near} "
+                  f"pairs {n_gaps} resid {moves.residual_nm:.3f} sw {moves.sweeps} ms {np.abs(moves.shift_nm).max():.2f} mt {0 if moves.turn is None else np.abs(moves.turn).max():.3f} t {time.perf_counter() - t0:.1f}", flush=True)
         if solve_rot == "none" and rotation != "none":
             bodies = Bodies(bodies.shape, bodies.radii_nm, bodies.half_lengths_nm, turned)
         if moves.turn is not None:
