@@ -84,7 +84,7 @@ class PairList:
         if stale:
             self.cutoff = reach_max_nm + self.skin
             i, j = neighbour_pairs(xyz.T, self.cutoff, self.period)
-            order = np.lexsort((j, i))
+            order = np.argsort(i * (xyz.shape[1] + 1) + j)
             self.i, self.j = i[order], j[order]
             self.hint = None
             self.ref = xyz.copy()

@@ -4,25 +4,30 @@ Start: every particle at its position (RSA result, or random where RSA left it) 
 multiplied by a scale s0 < 1 chosen so that the shrunk particles fill the starting fraction.
 Each iteration:
 
-1. the size grows to s' = s·(1 + rate) (while growing is allowed, up to 1);
-2. for every pair closer than the cut-off (Verlet list with a skin, rebuilt when a particle has
-   moved too far), the separation normal n and gap g at size s' (`contacts.separation`: exact for
-   spheres, a separating-axis lower bound for cylinders);
+1. the size grows to s' = s·(1 + rate) (while growing is allowed, up to 1); the walls push
+   particles that cross them back in (`motion.wall_contacts`: a rod pressed at one end turns flat);
+2. for every pair closer than the cut-off (Verlet list with a skin, `neighbours.PairList`), the
+   separation normal n and gap g at size s' (`contacts.separation`: exact for spheres and for
+   parallel cylinders, a separating-axis lower bound for the others, warm-started from each
+   pair's previous axis);
 3. if s' = 1 and no pair has g < 0, every pair is certified apart: stop, without moving;
-4. the pairs with g < margin + band form a linearised contact problem — gap + Δgap ≥ margin,
-   with moves and turns of rigid bodies of mass V and moment of inertia V·(r²/4 + L²/12) —
-   solved by `sweeps` projected-Jacobi sweeps (`contact_solve`); the particles move and turn
-   accordingly, then the walls push them back in (`motion.wall_contacts`).  Rotation is free for
-   isotropic cylinders (each axis kept within max_tilt of the one drawn for it, so the
-   orientation statistics stay as drawn), about z only for in-plane ones (elevation kept
-   exactly), none for vertical cylinders and spheres;
-5. the growth rate adapts: it rises (×1.5, up to max_growth_rate) while the largest overlap
-   found in step 2 is below grow_tolerance × the contact distance, else growth pauses and the
-   rate halves (down to min_growth_rate);
-6. walls can block a push: a column of particles taller than the layer has its overlaps along
-   z.  When neither s nor the largest overlap has improved for `patience` iterations,
-   overlapping pairs with a near-vertical normal use their best horizontal separating axis
-   instead (`motion.horizontal_escape`) for `escape_iterations` iterations.
+4. the pairs with g < margin + band form a linearised contact problem — every pair's gap to reach
+   `margin`, every centre to stay within its walls, rigid bodies of mass V and moment of inertia
+   V·(r²/4 + L²/12) — solved for the smallest moves by accelerated projected gradient on its dual
+   (`contact_solve`; translations are exact at fixed n, so the prediction is a lower bound).
+   Rotation ("coupled" mode, in-plane rods: about z only, keeping the elevation exactly) enters the
+   same problem, with extra rows at the kinks of the support function; isotropic rods ("push"
+   mode) turn by one rigid-body push sweep of the overlapping pairs instead, each axis kept within
+   max_tilt of the one drawn for it so the orientation statistics stay as drawn; vertical
+   cylinders and spheres do not turn.  Each particle's move and turn are capped (trust region);
+5. the growth rate adapts: it rises (×1.5, up to max_growth_rate) while the largest overlap found
+   in step 2 is below grow_tolerance × the contact distance, else growth pauses and the rate
+   halves (down to min_growth_rate);
+6. walls can block a push: a column of particles taller than the layer has its overlaps along z
+   and the wall rows make the contact problem infeasible.  When neither s nor the largest overlap
+   has improved for `patience` iterations, overlapping pairs with a near-vertical normal use their
+   best horizontal separating axis instead (`motion.horizontal_escape`) for `escape_iterations`
+   iterations (not for freely turning rods, which turn flat at the walls).
 
 It gives up after `max_iterations` (the caller reports the concentration as unreachable).
 """
@@ -37,29 +42,11 @@ from typing import Callable
 import numpy as np
 
 from .contact_solve import BodyRows, solve_contacts, wall_rows
-from .motion import ROTATION, contact_rows, horizontal_escape, push_apart, inertia, limit_tilt, pair_normals_gaps, \
-    tilt_rows, turn_axes, wall_contacts
+from .motion import (ROTATION, contact_rows, horizontal_escape, inertia, limit_tilt, pair_normals_gaps, push_apart,
+                     tilt_rows, turn_axes, wall_contacts)
 from .neighbours import PairList, spatial_order
 from .shapes import Bodies
 from .walls import Walls
-
-import os
-_DEBUG = bool(os.environ.get('GEOM_DEBUG'))
-_prev = {}
-_T = {}
-_last = [0.0]
-
-
-def _tick(label):
-    if _DEBUG:
-        now = time.perf_counter()
-        _T[label] = _T.get(label, 0.0) + now - _last[0]
-        _last[0] = now
-        import tracemalloc
-        if tracemalloc.is_tracing():
-            cur, peak = tracemalloc.get_traced_memory()
-            _T['mem_' + label] = max(_T.get('mem_' + label, 0), peak / 2**20)
-            tracemalloc.reset_peak()
 
 __all__ = ["PackOptions", "PackStats", "ROTATION", "pack"]
 
@@ -73,12 +60,11 @@ class PackOptions:
     max_growth_rate: float = 0.04
     min_growth_rate: float = 0.0025
     grow_tolerance: float = 0.1     # grow only while max overlap < this × contact distance
-    sweeps: int = 30                # most sweeps of the contact solve per iteration (per round)
-    rounds: int = 3
-    search_below: float = 1.0
-    tolerance: float = 0.25         # the solve stops when every gap is within this × margin of it
+    sweeps: int = 50                # most sweeps of the contact solve per round
+    rounds: int = 2                 # active-set rounds (candidate rows of turning rods)
+    tolerance: float = 0.5          # a solve stops when every row is within this × margin of its target
     max_iterations: int = 2000
-    search_iterations: int = 2      # cylinder separating-axis refinement per iteration
+    search_iterations: int = 1      # cylinder separating-axis refinement per iteration
     full_search_every: int = 8      # full axis search every k-th iteration (else warm local search)
     max_tilt: float = 0.35          # free rotation: largest angle (rad) from the drawn axis
     patience: int = 15              # iterations without progress before the horizontal escape
@@ -86,8 +72,9 @@ class PackOptions:
     wall_torque: bool = True        # walls push rods at their deepest point (they turn flat)
     max_shift: float = 0.2          # trust region: largest move per iteration (× mean radius)
     max_turn: float = 0.05          # trust region: largest turn per iteration (rad)
-    rotation_mode: str = "auto"
-    turn_relaxation: float = 1.2
+    rotation_mode: str = "auto"     # "coupled": turns in the contact solve; "push": turns by one
+    #                                 rigid-body push sweep; auto: push for free rotation, else coupled
+    turn_relaxation: float = 1.2    # of the push sweep's turns
 
 
 @dataclass(frozen=True)
@@ -155,10 +142,11 @@ def pack(bodies: Bodies, walls: Walls, centres: np.ndarray, period_nm, scale0: f
     converged = len(bodies) < 2
     it, escape, escapes, since = 0, 0, 0, 0
     best_scale, best_worst = s, np.inf
+    mode = options.rotation_mode if options.rotation_mode != "auto" else ("push" if rotation == "free" else "coupled")
+    solve_rotation = rotation if mode == "coupled" else "none"
     while not converged and it < options.max_iterations:
         it += 1
         s_new = min(1.0, s * (1.0 + rate)) if grow else s
-        _tick('other')
         body_s = bodies.scaled(s_new)
         if options.wall_torque:
             axes = wall_contacts(xyz, body_s, walls, rotation)
@@ -167,20 +155,15 @@ def pack(bodies: Bodies, walls: Walls, centres: np.ndarray, period_nm, scale0: f
                 body_s = bodies.scaled(s_new)
         else:
             walls.clamp(xyz, body_s)
-        _tick('walls')
         i, j = pairs.pairs(xyz, reach_max * s_new, reach_max)
-        _tick('pairs')
-        if _DEBUG and it == int(os.environ.get('GEOM_SATDUMP', -1)):
-            import pickle
-            pickle.dump(dict(bodies=body_s, xyz=xyz.copy(), i=i, j=j, hint=pairs.hint, period=period_nm, margin=margin * s_new), open('/tmp/geomprof/sat.pkl', 'wb'))
-        normal, gap = pair_normals_gaps(body_s, xyz, i, j, period_nm, pairs.hint, options.search_below * margin * s_new,
+        normal, gap = pair_normals_gaps(body_s, xyz, i, j, period_nm, pairs.hint, margin * s_new,
                                         options.search_iterations, it % options.full_search_every == 0)
         if body_s.shape == "cylinder":
             pairs.hint = normal.T
         worst = float(-gap.min()) if gap.size else -np.inf
         s = s_new
         report(s, worst, margin * s)
-        if s >= 1.0 and worst <= 0.0:
+        if s >= 1.0 and worst <= 0.0:            # every pair certified apart at full size
             converged = True
             break
         if s > best_scale or worst < best_worst * 0.98:
@@ -192,49 +175,31 @@ def pack(bodies: Bodies, walls: Walls, centres: np.ndarray, period_nm, scale0: f
         if escape > 0 and rotation != "free":
             escape -= 1
             normal, gap = horizontal_escape(body_s, xyz, i, j, normal, gap, margin * s, period_nm)
-        _tick('sat')
         near = np.flatnonzero(gap < (margin + band) * s)
-        mode = options.rotation_mode if options.rotation_mode != "auto" else ("push" if rotation == "free" else "coupled")
-        solve_rot = rotation if mode == "coupled" else "none"
-        rows = contact_rows(body_s, xyz, i[near], j[near], normal[:, near].T, gap[near], period_nm, solve_rot)
-        n_gaps, n_near = gap.size, near.size
-        if solve_rot == "none" and rotation != "none":
-            turned = push_apart(xyz.copy(), body_s, i[near], j[near], normal[:, near], gap[near], margin * s, period_nm,
-                                rotation, options.turn_relaxation, drawn_axes, tilt)
-        if escape == 0:
-            normal = gap = near = None                  # free the all-pairs arrays before the solve
+        rows = contact_rows(body_s, xyz, i[near], j[near], normal[:, near].T, gap[near], period_nm, solve_rotation)
+        turned = None
+        if rotation != "none" and solve_rotation == "none":
+            turned = push_apart(xyz.copy(), body_s, i[near], j[near], normal[:, near], gap[near], margin * s,
+                                period_nm, rotation, options.turn_relaxation, drawn_axes, tilt)
+        del normal, gap, near                            # the all-pairs arrays, before the solve
         lo, hi = walls.centre_bounds(body_s)
         body_rows = wall_rows(xyz[2], lo, hi, band * s)
-        if tilt < np.pi:
+        if solve_rotation != "none" and tilt < np.pi:
             body_rows = BodyRows.concat([body_rows, tilt_rows(bodies.axes, drawn_axes, tilt, 0.05)])
-        if _DEBUG and it == int(os.environ.get('GEOM_DUMP', -1)):
-            import pickle
-            pickle.dump(dict(rows=rows, body_rows=body_rows, inv_mass=inv_mass, inv_inertia=None if inv_inertia is None else inv_inertia / s**2, target=margin*s), open('/tmp/geomprof/dump.pkl', 'wb'))
-        if solve_rot == "none":
-            body_rows = BodyRows(body_rows.k, body_rows.shift, None, body_rows.gap)
-        _tick('rows')
         moves = solve_contacts(rows, body_rows, inv_mass, None if inv_inertia is None else inv_inertia / s**2,
                                margin * s, options.sweeps, options.tolerance * margin * s, options.rounds)
-        _tick('solve')
-        shift = _clip_rows(moves.shift_nm, options.max_shift * mean_r * s)
-        xyz += shift.T
-        if _DEBUG and (it % int(os.environ.get("GEOM_EVERY", 10)) == 0 or it < 5):
-            print(f"it {it} s {s:.4f} rate {rate:.4f} worst {worst:.3f} near {n_near} "
-                  f"pairs {n_gaps} resid {moves.residual_nm:.3f} sw {moves.sweeps} ms {np.abs(moves.shift_nm).max():.2f} mt {0 if moves.turn is None else np.abs(moves.turn).max():.3f} t {time.perf_counter() - t0:.1f}", flush=True)
-        if solve_rot == "none" and rotation != "none":
+        xyz += _clip_rows(moves.shift_nm, options.max_shift * mean_r * s).T
+        if turned is not None:
             bodies = Bodies(bodies.shape, bodies.radii_nm, bodies.half_lengths_nm, turned)
         if moves.turn is not None:
             axes = turn_axes(bodies.axes, _clip_rows(moves.turn, options.max_turn), rotation)
             if tilt < np.pi:
                 axes = limit_tilt(axes, drawn_axes, tilt)
             bodies = Bodies(bodies.shape, bodies.radii_nm, bodies.half_lengths_nm, axes)
-        _tick('apply')
         if s < 1.0 and worst < options.grow_tolerance * contact * s:
             grow, rate = True, min(options.max_growth_rate, 1.5 * rate)
         else:
             grow, rate = False, max(options.min_growth_rate, 0.5 * rate)
-    if _DEBUG:
-        print('stage times', {k: round(v, 2) for k, v in _T.items() if k != 'walls_'})
     walls.clamp(xyz, bodies.scaled(s))
     out = np.empty((len(perm), 3))
     out[perm] = xyz.T
