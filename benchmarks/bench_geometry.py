@@ -5,6 +5,7 @@
                                                            # (e.g. 98de97b), side by side, with ratios
     python -m benchmarks.bench_geometry --cost             # geometry_cost's estimates against measurements
     python -m benchmarks.bench_geometry --limits           # search the reachable concentrations (slow)
+    python -m benchmarks.bench_geometry --variants         # the packer's alternatives tried and dropped
 
 Per speed case: seconds for placement (`generate`) and voxelisation separately (wall clock and
 process CPU), particle count, achieved fractions, relative error of the grid's pigment volume,
@@ -30,6 +31,7 @@ import numpy as np
 
 from solver.geometry import (LayerSpec, draw_grains, find_overlaps, generate, geometry_cost, parse_particles, place,
                              reachable_limit, voxelize)
+from solver.geometry.packing import PackOptions
 from solver.inks import parse_ink
 
 GRID = (128, 128, 64)
@@ -91,19 +93,20 @@ if trace:
 vox = voxelize(real, tuple(grid))
 t2, c2 = time.perf_counter(), time.process_time()
 peak = tracemalloc.get_traced_memory()[1] if trace else 0
+grid_error = sum(vox.volume_nm3(c) for c in real.population_codes) / float(np.sum(real.volumes_nm3)) - 1
 print(json.dumps(dict(n=int(len(real.radii_nm)), place_s=t1 - t0, place_cpu_s=c1 - c0, vox_s=t2 - t1,
                       vox_cpu_s=c2 - c1, gen_peak_bytes=int(gen_peak), peak_bytes=int(max(gen_peak, peak)),
-                      az=float(np.mean(np.abs(real.axes[:, 2]))))))
+                      az=float(np.mean(np.abs(real.axes[:, 2]))), grid_error=float(grid_error))))
 """
 
 
 def run_case(path: str, case, trace: bool) -> dict:
     """One speed case in a fresh interpreter with `path` first on PYTHONPATH."""
     ink, particles, cell, thickness, grid, _ = case
-    env = dict(os.environ, PYTHONPATH=path)
+    env = dict(os.environ, PYTHONPATH=path)          # cwd=path too: "-c" puts the cwd first on sys.path
     out = subprocess.run([sys.executable, "-c", _CASE_SCRIPT,
                           json.dumps([ink, particles, cell, thickness, list(grid), trace])],
-                         env=env, capture_output=True, text=True, check=True)
+                         env=env, cwd=path, capture_output=True, text=True, check=True)
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
@@ -154,7 +157,7 @@ def compare(baseline_rev: str | None):
     with tempfile.TemporaryDirectory(prefix="geom_baseline_") as tmp:
         if baseline_rev:
             trees.append((baseline_rev, export_revision(baseline_rev, tmp)))
-        print(f"{'case':40s} " + "  ".join(f"{name + ': place / cpu / voxelise / peak (generate)':58s}"
+        print(f"{'case':40s} " + "  ".join(f"{name + ': place / cpu / voxelise / peak (generate) / grid err':65s}"
                                            for name, _ in trees)
               + ("  ratio old/new (place, total)" if baseline_rev else ""))
         for case in SPEED_CASES:
@@ -165,8 +168,8 @@ def compare(baseline_rev: str | None):
                 timed["peak_bytes"], timed["gen_peak_bytes"] = traced["peak_bytes"], traced["gen_peak_bytes"]
                 rows.append(timed)
             text = "  ".join(f"{r['place_s']:7.2f} s / {r['place_cpu_s']:6.2f} s / {r['vox_s']:5.2f} s / "
-                             f"{r['peak_bytes'] / 2**20:4.0f} MiB ({r['gen_peak_bytes'] / 2**20:4.0f} MiB)    "
-                             for r in rows)
+                             f"{r['peak_bytes'] / 2**20:4.0f} MiB ({r['gen_peak_bytes'] / 2**20:4.0f} MiB) "
+                             f"{r['grid_error']:+.0e}   " for r in rows)
             if baseline_rev:
                 new, old = rows
                 text += (f"  x{old['place_s'] / new['place_s']:.1f}, "
@@ -195,6 +198,41 @@ def cost_cases():
             print(f"{ink + ' ' + particles + f' {cell:g} {grid}':44s} {est.grains:6d}/{n:<7d} "
                   f"{est.seconds:8.2f}/{seconds:<8.2f}   {est.peak_bytes / 2**20:8.0f}/{peak / 2**20:<8.0f}", flush=True)
     print(f"  worst ratio (either way): time x{worst_t:.2f}, memory x{worst_m:.2f}")
+
+
+VARIANT_CASES = [
+    # (ink, particles, cell nm, label, PackOptions overrides, start fraction or None)
+    ("B50", "cylinder:100:isotropic", 1000.0, "default (turns by a push sweep)", {}, None),
+    ("B50", "cylinder:100:isotropic", 1000.0, "turns in the contact solve", {"rotation_mode": "coupled"}, None),
+    ("B50", "cylinder:100:isotropic", 1000.0, "1 sweep per iteration (like the old packer)", {"sweeps": 1}, None),
+    ("B50", "cylinder:100:isotropic", 1000.0, "search refinement 6 steps", {"search_iterations": 6}, None),
+    ("B50", "cylinder:100:isotropic", 1000.0, "grow only below 2 % overlap", {"grow_tolerance": 0.02}, None),
+    ("B50", "cylinder:100:inplane", 1000.0, "default (turns in the contact solve)", {}, None),
+    ("B50", "cylinder:100:inplane", 1000.0, "turns by a push sweep", {"rotation_mode": "push"}, None),
+    ("B50", "cylinder:100:inplane", 1000.0, "no kink rows (1 active-set round)", {"rounds": 1}, None),
+    ("B50", "cylinder:100:vertical", 1000.0, "default", {}, None),
+    ("B50", "cylinder:100:vertical", 1000.0, "10 sweeps", {"sweeps": 10}, None),
+    ("Y25+B25", "sphere:30", 2000.0, "default (RSA start at 15 %)", {}, None),
+    ("Y25+B25", "sphere:30", 2000.0, "RSA start at 25 % (the old start)", {}, 0.25),
+    ("Y25+B25", "sphere:30", 2000.0, "RSA start at 8 %", {}, 0.08),
+    ("Y25+B25", "sphere:30", 2000.0, "10 sweeps", {"sweeps": 10}, None),
+]
+
+
+def variant_cases():
+    """Placement alone with one knob changed: iterations, seconds, converged."""
+    for ink, particles, cell, label, overrides, start in VARIANT_CASES:
+        layer = LayerSpec(parse_ink(ink), parse_particles(particles), 1000.0, (cell, cell))
+        grains = draw_grains(layer, 1)
+        options = PackOptions(**dict({"max_iterations": 1500}, **overrides))
+        t0 = time.perf_counter()
+        try:
+            placed = place(layer, grains, 1, options=options, start_fraction=start)
+            outcome = f"{placed.pack.iterations} iterations"
+        except ValueError:
+            outcome = f"NOT converged in {options.max_iterations} iterations"
+        print(f"  {ink + ' ' + particles + f' {cell:g} nm':38s} {label:45s} {outcome:34s} "
+              f"{time.perf_counter() - t0:6.2f} s", flush=True)
 
 
 def limit_case(particles, cell, ladder, thickness=1000.0, seed=1):
@@ -229,6 +267,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--baseline", metavar="REV", help="also time git revision REV, side by side")
     parser.add_argument("--cost", action="store_true", help="compare geometry_cost with measurements")
     parser.add_argument("--limits", action="store_true", help="also search the reachable concentrations")
+    parser.add_argument("--variants", action="store_true", help="time the packer's dropped alternatives")
     parser.add_argument("--skip-speed", action="store_true", help="no speed cases")
     args = parser.parse_args([] if argv is None else argv)
     if not args.skip_speed:
@@ -241,6 +280,9 @@ def main(argv: list[str] | None = None) -> int:
     if args.cost:
         print("== geometry_cost against measurements (seed 1, wall clock)")
         cost_cases()
+    if args.variants:
+        print("== packer variants (placement only, seed 1, H = 1000 nm)")
+        variant_cases()
     if args.limits:
         print("== reachable concentrations (thickness 1000 nm)")
         for particles, cell, ladder in LIMIT_CASES:

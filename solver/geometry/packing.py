@@ -170,9 +170,9 @@ def pack(bodies: Bodies, walls: Walls, centres: np.ndarray, period_nm, scale0: f
             best_scale, best_worst, since = s, worst, 0
         else:
             since += 1
-        if since > options.patience:
+        if since > options.patience and rotation != "free":
             escape, since, escapes, best_worst = options.escape_iterations, 0, escapes + 1, np.inf
-        if escape > 0 and rotation != "free":
+        if escape > 0:
             escape -= 1
             normal, gap = horizontal_escape(body_s, xyz, i, j, normal, gap, margin * s, period_nm)
         near = np.flatnonzero(gap < (margin + band) * s)

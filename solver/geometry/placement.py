@@ -35,14 +35,18 @@ class Placement:
 
 
 def place(layer: LayerSpec, grains: Grains, seed: int, progress: Progress | None = None,
-          options: PackOptions = PackOptions()) -> Placement:
-    """Positions of the grains (RSA, then growth + relaxation when the concentration needs it)."""
+          options: PackOptions = PackOptions(), start_fraction: float | None = None) -> Placement:
+    """Positions of the grains (RSA, then growth + relaxation when the concentration needs it).
+
+    start_fraction: volume fraction of the shrunk grains RSA places before packing (default
+    `limits.PACK_START_FRACTION`); options: the packer's knobs."""
     spec = layer.particles
     rng = np.random.default_rng(seed_streams(seed)["placement"])
     bodies, walls = grains.bodies, grains.walls
     target = layer.ink.total_fraction
     packing = target > RSA_FRACTION[spec.shape]
-    scale0 = (min(target, PACK_START_FRACTION[spec.shape]) / target) ** (1.0 / 3.0) if packing else 1.0
+    start = PACK_START_FRACTION[spec.shape] if start_fraction is None else start_fraction
+    scale0 = (min(target, start) / target) ** (1.0 / 3.0) if packing else 1.0
     report = None if progress is None else (lambda f: progress("rsa", f))
     res = rsa(bodies.scaled(scale0), walls, layer.cell_nm, rng, progress=report)
     centres, axes = res.centres, bodies.axes
