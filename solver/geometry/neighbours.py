@@ -85,9 +85,7 @@ class PairList:
             self.cutoff = reach_max_nm + self.skin
             i, j = neighbour_pairs(xyz.T, self.cutoff, self.period)
             order = np.argsort(i * (xyz.shape[1] + 1) + j)
-            small = np.int32 if xyz.shape[1] < 2**31 else np.int64       # half the memory of the list
-            self.i, self.j = i[order].astype(small), j[order].astype(small)
-            del i, j, order
+            self.i, self.j = i[order], j[order]
             self.hint = None
             self.ref = xyz.copy()
             self.rebuilds += 1
