@@ -93,17 +93,19 @@ def _system(contacts: Contacts, body: BodyRows, n: int, rotating: bool):
     xyz = np.arange(3, dtype=np.int32)
     i, j = contacts.i.astype(np.int32)[:, None], contacts.j.astype(np.int32)[:, None]
     cols = [3 * i + xyz, 3 * j + xyz]
-    vals = [-contacts.normal, contacts.normal]
+    normal = contacts.normal.astype(np.float32)
+    vals = [-normal, normal]
     if rotating:
-        lever_i, lever_j = contacts.lever_i, contacts.lever_j
+        lever_i, lever_j = contacts.lever_i.astype(np.float32), contacts.lever_j.astype(np.float32)
         if not (np.any(lever_i[:, :2]) or np.any(lever_j[:, :2])):
             cols += [3 * n + 3 * i + 2, 3 * n + 3 * j + 2]
             vals += [-lever_i[:, 2:], lever_j[:, 2:]]
         else:
             cols += [3 * n + 3 * i + xyz, 3 * n + 3 * j + xyz]
             vals += [-lever_i, lever_j]
-    pair_cols = np.concatenate(cols, axis=1).astype(np.int32)
-    pair_vals = np.concatenate(vals, axis=1).astype(np.float32)
+    pair_cols = np.concatenate(cols, axis=1)
+    pair_vals = np.concatenate(vals, axis=1)
+    del cols, vals
     k = body.k.astype(np.int32)[:, None]
     body_cols = [3 * k + xyz]
     body_vals = [body.shift]
