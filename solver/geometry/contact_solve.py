@@ -88,38 +88,37 @@ def wall_rows(z_now, z_lo, z_hi, band_nm) -> BodyRows:
 
 def _system(contacts: Contacts, body: BodyRows, n: int, rotating: bool):
     """Sparse Jacobian (rows: pairs, then one-particle rows) with 3N (or 6N) columns, built
-    directly in CSR form (float32): each pair row holds its two particles' shift columns and,
-    when rotating, their turn columns (only z when every lever is vertical: in-plane rods)."""
-    xyz = np.arange(3, dtype=np.int32)
-    i, j = contacts.i.astype(np.int32)[:, None], contacts.j.astype(np.int32)[:, None]
-    cols = [3 * i + xyz, 3 * j + xyz]
-    normal = contacts.normal.astype(np.float32)
-    vals = [-normal, normal]
+    directly in CSR form (float32, filled in place: no temporaries of the full size): each pair
+    row holds its two particles' shift columns and, when rotating, their turn columns (only z
+    when every lever is vertical: in-plane rods)."""
+    c, r = len(contacts), len(body)
+    blocks = [(contacts.i, 0, -contacts.normal), (contacts.j, 0, contacts.normal)]
     if rotating:
-        lever_i, lever_j = contacts.lever_i.astype(np.float32), contacts.lever_j.astype(np.float32)
-        if not (np.any(lever_i[:, :2]) or np.any(lever_j[:, :2])):
-            cols += [3 * n + 3 * i + 2, 3 * n + 3 * j + 2]
-            vals += [-lever_i[:, 2:], lever_j[:, 2:]]
-        else:
-            cols += [3 * n + 3 * i + xyz, 3 * n + 3 * j + xyz]
-            vals += [-lever_i, lever_j]
-    pair_cols = np.concatenate(cols, axis=1)
-    pair_vals = np.concatenate(vals, axis=1)
-    del cols, vals
-    k = body.k.astype(np.int32)[:, None]
-    body_cols = [3 * k + xyz]
-    body_vals = [body.shift]
+        z_only = not (np.any(contacts.lever_i[:, :2]) or np.any(contacts.lever_j[:, :2]))
+        span = slice(2, 3) if z_only else slice(0, 3)
+        blocks += [(contacts.i, 3 * n, -contacts.lever_i[:, span]), (contacts.j, 3 * n, contacts.lever_j[:, span])]
+    width = sum(v.shape[1] for _, _, v in blocks)
+    body_width = 6 if rotating else 3
+    data = np.empty(c * width + r * body_width, dtype=np.float32)
+    indices = np.empty(data.size, dtype=np.int32)
+    pair_data, pair_indices = data[:c * width].reshape(c, width), indices[:c * width].reshape(c, width)
+    col = 0
+    for owner, offset, values in blocks:
+        k = values.shape[1]
+        first = 3 - k if k < 3 else 0                     # z only: column 3k + 2
+        pair_data[:, col:col + k] = values
+        for m in range(k):
+            np.multiply(owner, 3, out=pair_indices[:, col + m], casting="unsafe")
+            pair_indices[:, col + m] += offset + first + m
+        col += k
+    body_data, body_indices = data[c * width:].reshape(r, body_width), indices[c * width:].reshape(r, body_width)
+    body_data[:, :3] = body.shift
+    body_indices[:, :3] = 3 * body.k[:, None] + np.arange(3)
     if rotating:
-        body_cols.append(3 * n + 3 * k + xyz)
-        body_vals.append(body.turn if body.turn is not None else np.zeros((len(body), 3)))
-    body_cols = np.concatenate(body_cols, axis=1).astype(np.int32)
-    body_vals = np.concatenate(body_vals, axis=1).astype(np.float32)
-    width_p, width_b = pair_cols.shape[1], body_cols.shape[1]
-    indptr = np.concatenate([width_p * np.arange(len(contacts) + 1),
-                             width_p * len(contacts) + width_b * np.arange(1, len(body) + 1)])
-    return csr_matrix((np.concatenate([pair_vals.ravel(), body_vals.ravel()]),
-                       np.concatenate([pair_cols.ravel(), body_cols.ravel()]), indptr),
-                      shape=(len(contacts) + len(body), (6 if rotating else 3) * n))
+        body_data[:, 3:] = body.turn if body.turn is not None else 0.0
+        body_indices[:, 3:] = 3 * n + 3 * body.k[:, None] + np.arange(3)
+    indptr = np.concatenate([width * np.arange(c + 1), width * c + body_width * np.arange(1, r + 1)])
+    return csr_matrix((data, indices, indptr), shape=(c + r, (6 if rotating else 3) * n))
 
 
 def _row_owners(contacts: Contacts, body: BodyRows, rows: np.ndarray):
@@ -155,7 +154,7 @@ def _fista(jac, gap, target, minv, stiffness, lam, sweeps, tolerance):
     """Accelerated projected gradient on the dual; returns (λ, sweeps done).  Single precision
     (the sweeps are memory bound; nm-scale gaps need no more)."""
     step = (1.0 / np.where(stiffness > 0, stiffness, np.inf)).astype(np.float32)
-    jac_t = jac.T.tocsr()
+    jac_t = jac.T                                   # a CSC view: no copy
     minv = minv.astype(np.float32)
     gap, target, lam = gap.astype(np.float32), target.astype(np.float32), lam.astype(np.float32)
     lam_prev = lam
