@@ -5,10 +5,10 @@
   φ_k·V / (v·e^{4.5σ²}) (the generator draws until the volume is reached: a few % either way);
 * seconds = placement + voxelisation, a model fitted to `python -m benchmarks.bench_geometry --cost`
   on the 2-core development machine (docs/geometry.md gives its accuracy):
-  - placement: grains × a cost per grain (µs) that depends on the shape, the orientation mode
-    and the total fraction φ (piecewise linear in φ between measured points, `PLACE_US_PER_GRAIN`;
-    steeper beyond the last point, where the packer nears its limit), plus the Brownian steps of
-    agglutination (`AGGLUTINATION_US_PER_GRAIN`);
+  - placement: a fixed part (the packer's per-iteration overhead) plus grains × a cost per
+    grain, both depending on the shape, the orientation mode and the total fraction φ (piecewise
+    linear in φ between measured points, `PLACE_COST`; growing geometrically beyond the last
+    point, where the packer nears its limit), plus the Brownian steps of agglutination;
   - voxelisation: VOXEL_S_PER_LINE_STEP × (grains × sample lines in a grain's window × voxel
     layers it spans) + VOXEL_S_PER_GRAIN × grains + VOXEL_S_PER_VOXEL × voxels + VOXEL_S (+ the
     rough-top surface, per sample line);
@@ -32,19 +32,22 @@ from .shapes import Bodies, sample_orientations
 from .spec import LayerSpec, cylinder_radius_length
 from .voxelize import lines_per_voxel
 
-#: Placement cost per grain (µs) against the total volume fraction, per (shape, orientation).
-PLACE_US_PER_GRAIN = {
-    ("sphere", None): ((0.0, 15.0), (0.25, 25.0), (0.30, 30.0), (0.50, 55.0), (0.58, 150.0)),
-    ("cylinder", "isotropic"): ((0.0, 600.0), (0.15, 730.0), (0.30, 700.0), (0.50, 2000.0)),
-    ("cylinder", "inplane"): ((0.0, 500.0), (0.15, 600.0), (0.30, 650.0), (0.50, 2500.0), (0.55, 6000.0)),
-    ("cylinder", "vertical"): ((0.0, 80.0), (0.15, 100.0), (0.30, 120.0), (0.50, 600.0)),
+#: Placement cost against the total volume fraction φ, per (shape, orientation): points
+#: (φ, fixed seconds, µs per grain) — the fixed part is the packer's per-iteration overhead.
+PLACE_COST = {
+    ("sphere", None): ((0.0, 0.0, 15.0), (0.15, 0.05, 18.0), (0.30, 0.2, 30.0), (0.50, 0.6, 36.0),
+                       (0.58, 2.0, 100.0)),
+    ("cylinder", "isotropic"): ((0.0, 0.0, 900.0), (0.15, 0.05, 1000.0), (0.30, 0.8, 900.0), (0.50, 3.9, 560.0)),
+    ("cylinder", "inplane"): ((0.0, 0.0, 600.0), (0.15, 0.05, 700.0), (0.30, 0.8, 700.0), (0.50, 3.1, 1050.0),
+                              (0.55, 10.0, 2000.0)),
+    ("cylinder", "vertical"): ((0.0, 0.0, 120.0), (0.15, 0.02, 150.0), (0.30, 0.4, 250.0), (0.50, 0.9, 310.0)),
 }
-#: Relative growth of the per-grain cost per 0.01 of fraction beyond the last tabulated point.
+#: Relative growth of the placement cost per 0.01 of fraction beyond the last tabulated point.
 PLACE_GROWTH_BEYOND = 0.25
 #: A tilt spread makes aligned cylinders' contacts general (no parallel-axis shortcut).
 TILT_PLACE_FACTOR = 2.0
-#: Brownian steps of agglutination, per grain (µs), spheres and cylinders.
-AGGLUTINATION_US_PER_GRAIN = {"sphere": 500.0, "cylinder": 5000.0}
+#: Brownian steps of agglutination: fixed seconds and µs per grain.
+AGGLUTINATION_COST = {"sphere": (0.1, 1200.0), "cylinder": (1.0, 10000.0)}
 #: Voxelisation: seconds per (grain × window line × voxel layer), per voxel, and per surface line.
 VOXEL_S = 0.03
 VOXEL_S_PER_GRAIN = 1.7e-6
@@ -84,22 +87,25 @@ def expected_grains(layer: LayerSpec) -> int:
     return total
 
 
-def _interpolate(points, phi: float) -> float:
-    xs, ys = zip(*points)
+def _interpolate(points, phi: float) -> tuple[float, float]:
+    """(fixed s, µs per grain) at φ: linear between the points, growing geometrically beyond."""
+    xs, fixed, per_grain = zip(*points)
     if phi <= xs[-1]:
-        return float(np.interp(phi, xs, ys))
-    return ys[-1] * (1.0 + PLACE_GROWTH_BEYOND) ** ((phi - xs[-1]) / 0.01)
+        return float(np.interp(phi, xs, fixed)), float(np.interp(phi, xs, per_grain))
+    factor = (1.0 + PLACE_GROWTH_BEYOND) ** ((phi - xs[-1]) / 0.01)
+    return fixed[-1] * factor, per_grain[-1] * factor
 
 
 def placement_seconds(layer: LayerSpec, grains: int) -> float:
     spec = layer.particles
     phi = layer.ink.total_fraction
-    per_grain = _interpolate(PLACE_US_PER_GRAIN[(spec.shape, spec.orientation)], phi)
+    fixed, per_grain = _interpolate(PLACE_COST[(spec.shape, spec.orientation)], phi)
     if spec.tilt_rad > 0 and phi > RSA_FRACTION[spec.shape]:
-        per_grain *= TILT_PLACE_FACTOR
+        fixed, per_grain = TILT_PLACE_FACTOR * fixed, TILT_PLACE_FACTOR * per_grain
     if spec.agglutination_kT > 0:
-        per_grain += AGGLUTINATION_US_PER_GRAIN[spec.shape]
-    return 1e-6 * per_grain * grains
+        agg_fixed, agg_per_grain = AGGLUTINATION_COST[spec.shape]
+        fixed, per_grain = fixed + agg_fixed, per_grain + agg_per_grain
+    return fixed + 1e-6 * per_grain * grains
 
 
 def _typical_bodies(layer: LayerSpec) -> Bodies:
