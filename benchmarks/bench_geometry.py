@@ -1,32 +1,60 @@
-"""Speed and reach of the geometry generator (issue: ≤ 10 s and ≤ 60 s cases, on 2 cores).
+"""Speed, memory, reach and cost model of the geometry generator (2-core machine).
 
-    python -m benchmarks.bench_geometry            # the speed cases
-    python -m benchmarks.bench_geometry --limits   # also search the reachable concentrations (slow)
+    python -m benchmarks.bench_geometry                    # the speed cases (targets: ≤ 10 s each)
+    python -m benchmarks.bench_geometry --baseline REV     # also the same cases with git revision REV
+                                                           # (e.g. 98de97b), side by side, with ratios
+    python -m benchmarks.bench_geometry --cost             # geometry_cost's estimates against measurements
+    python -m benchmarks.bench_geometry --limits           # search the reachable concentrations (slow)
+    python -m benchmarks.bench_geometry --variants         # the packer's alternatives tried and dropped
 
-Prints, per case: seconds for placement (generate) and voxelisation separately, particle count,
-achieved fractions, relative error of the grid's pigment volume, packer statistics and the peak
-traced memory (tracemalloc, numpy buffers included).
+Per speed case: seconds for placement (`generate`) and voxelisation separately (wall clock and
+process CPU), particle count, achieved fractions, relative error of the grid's pigment volume,
+packer statistics, overlap count, orientation statistic, and the peak traced memory (tracemalloc,
+numpy buffers included) of generate + voxelize, measured in a second, separate run so that
+tracing does not slow the timed one.  A baseline revision is exported with `git archive` into a
+temporary folder and run in a subprocess with that folder first on PYTHONPATH, through the
+public API only (`generate`, `voxelize`), on the same machine in the same command.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
+import os
+import subprocess
 import sys
+import tempfile
 import time
 import tracemalloc
 
 import numpy as np
 
-from solver.geometry import LayerSpec, find_overlaps, generate, parse_particles, voxelize
-from solver.geometry.generate import _particles, _place
-from solver.geometry.limits import reachable_limit
+from solver.geometry import (LayerSpec, draw_grains, find_overlaps, generate, geometry_cost, parse_particles, place,
+                             reachable_limit, voxelize)
+from solver.geometry.packing import PackOptions
 from solver.inks import parse_ink
 
+GRID = (128, 128, 64)
 SPEED_CASES = [
-    # (ink, particles, cell nm, thickness nm, grid, budget s)
-    ("B50", "sphere:100", 2000.0, 1000.0, (128, 128, 64), 10.0),
-    ("B50", "sphere:30", 2000.0, 1000.0, (128, 128, 64), 60.0),
-    ("B50", "cylinder:100:isotropic", 2000.0, 1000.0, (128, 128, 64), None),
+    # (ink, particles, cell nm, thickness nm, grid, budget s (placement + voxelisation))
+    ("Y25+B25", "sphere:30", 2000.0, 1000.0, GRID, 10.0),
+    ("Y25+B25", "sphere:100", 2000.0, 1000.0, GRID, 10.0),
+    ("Y25+B25", "cylinder:100:isotropic", 2000.0, 1000.0, GRID, None),
+    ("Y25+B25", "cylinder:100:inplane", 2000.0, 1000.0, GRID, None),
+    ("Y25+B25", "cylinder:100:vertical", 2000.0, 1000.0, GRID, None),
+]
+#: Budget of the placement alone for the cylinder cases (s).
+CYLINDER_BUDGET_S = 10.0
+
+COST_CASES = [
+    # (ink, particles, cell nm) at H = 1000 nm, grids 64×64×32 and 128×128×64
+    ("B15", "sphere:30", 1000.0), ("B50", "sphere:30", 1000.0), ("B30", "sphere:30", 2000.0),
+    ("B15", "sphere:100", 2000.0), ("B50", "sphere:100", 2000.0), ("B30", "sphere:300", 2000.0),
+    ("B15", "cylinder:100:isotropic", 2000.0), ("B30", "cylinder:100:isotropic", 2000.0),
+    ("B50", "cylinder:100:isotropic", 1000.0), ("B30", "cylinder:100:inplane", 2000.0),
+    ("B50", "cylinder:100:inplane", 1000.0), ("B30", "cylinder:100:vertical", 2000.0),
+    ("B50", "cylinder:100:vertical", 1000.0), ("B30", "cylinder:200:isotropic", 2000.0),
+    ("B30", "cylinder:300:inplane", 2000.0), ("Y7.5+B7.5", "sphere:100:agglutinated", 1000.0),
 ]
 
 LIMIT_CASES = [
@@ -41,28 +69,77 @@ LIMIT_CASES = [
     ("cylinder:300:isotropic", 2000.0, (0.50, 0.52)),
     ("cylinder:300:inplane", 2000.0, (0.50, 0.55)),
     ("cylinder:300:vertical", 2000.0, (0.40, 0.44, 0.46, 0.48)),
+    ("cylinder:100:inplane:tilt=15", 1000.0, (0.50, 0.55)),
+    ("cylinder:100:vertical:tilt=15", 1000.0, (0.45, 0.50)),
+    ("cylinder:300:vertical:tilt=15", 2000.0, (0.38, 0.40, 0.42, 0.44)),
 ]
 
-
-def speed_case(ink, particles, cell, thickness, grid, budget, seed=1):
-    layer = LayerSpec(parse_ink(ink), parse_particles(particles), thickness, (cell, cell))
+#: Runs one speed case with whatever `solver.geometry` is first on the path (public API only).
+_CASE_SCRIPT = r"""
+import json, sys, time, tracemalloc
+import numpy as np
+from solver.geometry import LayerSpec, generate, parse_particles, voxelize
+from solver.inks import parse_ink
+ink, particles, cell, thickness, grid, trace = json.loads(sys.argv[1])
+layer = LayerSpec(parse_ink(ink), parse_particles(particles), thickness, (cell, cell))
+if trace:
     tracemalloc.start()
+t0, c0 = time.perf_counter(), time.process_time()
+real = generate(layer, 1)
+t1, c1 = time.perf_counter(), time.process_time()
+gen_peak = tracemalloc.get_traced_memory()[1] if trace else 0
+if trace:
+    tracemalloc.reset_peak()
+vox = voxelize(real, tuple(grid))
+t2, c2 = time.perf_counter(), time.process_time()
+peak = tracemalloc.get_traced_memory()[1] if trace else 0
+grid_error = sum(vox.volume_nm3(c) for c in real.population_codes) / float(np.sum(real.volumes_nm3)) - 1
+print(json.dumps(dict(n=int(len(real.radii_nm)), place_s=t1 - t0, place_cpu_s=c1 - c0, vox_s=t2 - t1,
+                      vox_cpu_s=c2 - c1, gen_peak_bytes=int(gen_peak), peak_bytes=int(max(gen_peak, peak)),
+                      az=float(np.mean(np.abs(real.axes[:, 2]))), grid_error=float(grid_error))))
+"""
+
+
+def run_case(path: str, case, trace: bool) -> dict:
+    """One speed case in a fresh interpreter with `path` first on PYTHONPATH."""
+    ink, particles, cell, thickness, grid, _ = case
+    env = dict(os.environ, PYTHONPATH=path)          # cwd=path too: "-c" puts the cwd first on sys.path
+    out = subprocess.run([sys.executable, "-c", _CASE_SCRIPT,
+                          json.dumps([ink, particles, cell, thickness, list(grid), trace])],
+                         env=env, cwd=path, capture_output=True, text=True, check=True)
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def export_revision(rev: str, folder: str) -> str:
+    """`git archive` of rev's solver/ into folder (read-only use of the repository)."""
+    root = subprocess.run(["git", "rev-parse", "--show-toplevel"], capture_output=True, text=True,
+                          check=True).stdout.strip()
+    archive = subprocess.run(["git", "-C", root, "archive", rev, "solver"], capture_output=True, check=True).stdout
+    subprocess.run(["tar", "-x", "-C", folder], input=archive, check=True)
+    return folder
+
+
+def speed_case(case, seed=1):
+    """Details of one case in this process (statistics the timing subprocess does not print)."""
+    ink, particles, cell, thickness, grid, budget = case
+    layer = LayerSpec(parse_ink(ink), parse_particles(particles), thickness, (cell, cell))
     t0 = time.perf_counter()
     real = generate(layer, seed)
     t1 = time.perf_counter()
     vox = voxelize(real, grid)
     t2 = time.perf_counter()
-    peak = tracemalloc.get_traced_memory()[1]
-    tracemalloc.stop()
     exact = float(np.sum(real.volumes_nm3))
     grid_volume = sum(vox.volume_nm3(c) for c in real.population_codes)
     fractions = ", ".join(f"{c} {100 * f:.4f}%" for c, f in real.achieved_fractions.items())
     total = t2 - t0
-    verdict = "" if budget is None else f"  [{'within' if total <= budget else 'OVER'} {budget:g} s]"
+    limit = budget if budget is not None else CYLINDER_BUDGET_S
+    spent = total if budget is not None else t1 - t0
+    what = "placement + voxelisation" if budget is not None else "placement"
     print(f"{ink} {particles} in {cell:g}x{cell:g}x{thickness:g} nm -> grid {grid}:")
     print(f"  particles {len(real.radii_nm)}, achieved {fractions}")
     print(f"  placement {t1 - t0:.2f} s ({real.stats.method}), voxelisation {t2 - t1:.2f} s "
-          f"({vox.lines_per_voxel}x{vox.lines_per_voxel} lines/column), total {total:.2f} s{verdict}")
+          f"({vox.lines_per_voxel}x{vox.lines_per_voxel} lines/column), total {total:.2f} s  "
+          f"[{what} {'within' if spent <= limit else 'OVER'} {limit:g} s]")
     if real.stats.pack is not None:
         p = real.stats.pack
         print(f"  packer: {p.iterations} iterations, {p.rebuilds} list builds, escapes {p.escapes}, "
@@ -70,8 +147,93 @@ def speed_case(ink, particles, cell, thickness, grid, budget, seed=1):
     if real.shape == "cylinder":
         print(f"  <|a_z|> = {np.mean(np.abs(real.axes[:, 2])):.3f}")
     print(f"  grid pigment volume / particle volume - 1 = {grid_volume / exact - 1:+.2e}; "
-          f"overlapping pairs {len(find_overlaps(real))}; peak traced memory {peak / 2**20:.0f} MiB")
-    return total
+          f"overlapping pairs {len(find_overlaps(real))}")
+
+
+def compare(baseline_rev: str | None):
+    """Timings of this tree (and the baseline) in fresh processes, side by side."""
+    here = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    trees = [("new", here)]
+    with tempfile.TemporaryDirectory(prefix="geom_baseline_") as tmp:
+        if baseline_rev:
+            trees.append((baseline_rev, export_revision(baseline_rev, tmp)))
+        print(f"{'case':40s} " + "  ".join(f"{name + ': place / cpu / voxelise / peak (generate) / grid err':65s}"
+                                           for name, _ in trees)
+              + ("  ratio old/new (place, total)" if baseline_rev else ""))
+        for case in SPEED_CASES:
+            rows = []
+            for _, path in trees:
+                timed = run_case(path, case, trace=False)
+                traced = run_case(path, case, trace=True)
+                timed["peak_bytes"], timed["gen_peak_bytes"] = traced["peak_bytes"], traced["gen_peak_bytes"]
+                rows.append(timed)
+            text = "  ".join(f"{r['place_s']:7.2f} s / {r['place_cpu_s']:6.2f} s / {r['vox_s']:5.2f} s / "
+                             f"{r['peak_bytes'] / 2**20:4.0f} MiB ({r['gen_peak_bytes'] / 2**20:4.0f} MiB) "
+                             f"{r['grid_error']:+.0e}   " for r in rows)
+            if baseline_rev:
+                new, old = rows
+                text += (f"  x{old['place_s'] / new['place_s']:.1f}, "
+                         f"x{(old['place_s'] + old['vox_s']) / (new['place_s'] + new['vox_s']):.1f}")
+            print(f"{case[0] + ' ' + case[1]:40s} {text}", flush=True)
+
+
+def cost_cases():
+    """geometry_cost's estimates against measured time and traced peak memory."""
+    print(f"{'case':50s} {'grains (est/made)':>18s} {'seconds (est/meas)':>20s} {'peak MiB (est/meas)':>20s}")
+    worst_t, worst_m = 1.0, 1.0
+    for ink, particles, cell in COST_CASES:
+        layer = LayerSpec(parse_ink(ink), parse_particles(particles), 1000.0, (cell, cell))
+        for grid in ((64, 64, 32), GRID):
+            est = geometry_cost(layer, grid)
+            t0 = time.perf_counter()
+            real = generate(layer, 1)
+            voxelize(real, grid)
+            seconds = time.perf_counter() - t0
+            tracemalloc.start()                      # a second, traced run (tracing slows numpy)
+            voxelize(generate(layer, 1), grid)
+            peak = tracemalloc.get_traced_memory()[1]
+            tracemalloc.stop()
+            n = len(real.radii_nm)
+            worst_t = max(worst_t, est.seconds / seconds, seconds / est.seconds)
+            worst_m = max(worst_m, est.peak_bytes / peak, peak / est.peak_bytes)
+            print(f"{ink + ' ' + particles + f' {cell:g} {grid}':50s} {est.grains:8d}/{n:<9d} "
+                  f"{est.seconds:8.2f}/{seconds:<8.2f}   {est.peak_bytes / 2**20:8.0f}/{peak / 2**20:<8.0f}", flush=True)
+    print(f"  worst ratio (either way): time x{worst_t:.2f}, memory x{worst_m:.2f}")
+
+
+VARIANT_CASES = [
+    # (ink, particles, cell nm, label, PackOptions overrides, start fraction or None)
+    ("B50", "cylinder:100:isotropic", 1000.0, "default (turns by a push sweep)", {}, None),
+    ("B50", "cylinder:100:isotropic", 1000.0, "turns in the contact solve", {"rotation_mode": "coupled"}, None),
+    ("B50", "cylinder:100:isotropic", 1000.0, "1 sweep per iteration (like the old packer)", {"sweeps": 1}, None),
+    ("B50", "cylinder:100:isotropic", 1000.0, "search refinement 6 steps", {"search_iterations": 6}, None),
+    ("B50", "cylinder:100:isotropic", 1000.0, "grow only below 2 % overlap", {"grow_tolerance": 0.02}, None),
+    ("B50", "cylinder:100:inplane", 1000.0, "default (turns in the contact solve)", {}, None),
+    ("B50", "cylinder:100:inplane", 1000.0, "turns by a push sweep", {"rotation_mode": "push"}, None),
+    ("B50", "cylinder:100:inplane", 1000.0, "no kink rows (1 active-set round)", {"rounds": 1}, None),
+    ("B50", "cylinder:100:vertical", 1000.0, "default", {}, None),
+    ("B50", "cylinder:100:vertical", 1000.0, "10 sweeps", {"sweeps": 10}, None),
+    ("Y25+B25", "sphere:30", 2000.0, "default (RSA start at 15 %)", {}, None),
+    ("Y25+B25", "sphere:30", 2000.0, "RSA start at 25 % (the old start)", {}, 0.25),
+    ("Y25+B25", "sphere:30", 2000.0, "RSA start at 8 %", {}, 0.08),
+    ("Y25+B25", "sphere:30", 2000.0, "10 sweeps", {"sweeps": 10}, None),
+]
+
+
+def variant_cases():
+    """Placement alone with one knob changed: iterations, seconds, converged."""
+    for ink, particles, cell, label, overrides, start in VARIANT_CASES:
+        layer = LayerSpec(parse_ink(ink), parse_particles(particles), 1000.0, (cell, cell))
+        grains = draw_grains(layer, 1)
+        options = PackOptions(**dict({"max_iterations": 1500}, **overrides))
+        t0 = time.perf_counter()
+        try:
+            placed = place(layer, grains, 1, options=options, start_fraction=start)
+            outcome = f"{placed.pack.iterations} iterations"
+        except ValueError:
+            outcome = f"NOT converged in {options.max_iterations} iterations"
+        print(f"  {ink + ' ' + particles + f' {cell:g} nm':38s} {label:45s} {outcome:34s} "
+              f"{time.perf_counter() - t0:6.2f} s", flush=True)
 
 
 def limit_case(particles, cell, ladder, thickness=1000.0, seed=1):
@@ -79,19 +241,19 @@ def limit_case(particles, cell, ladder, thickness=1000.0, seed=1):
     reached = None
     for phi in ladder:
         layer = LayerSpec(parse_ink(f"B{100 * phi:g}"), parse_particles(particles), thickness, (cell, cell))
-        seeds = np.random.SeedSequence(seed).spawn(5)
-        bodies, walls, _, _ = _particles(layer, seeds)
+        grains = draw_grains(layer, seed)
         t0 = time.perf_counter()
         try:
-            _, axes, stats = _place(layer, bodies, walls, np.random.default_rng(seeds[3]))
+            placed = place(layer, grains, seed)
             ok = True
         except ValueError:
             ok = False
         extra = ""
-        if ok and bodies.shape == "cylinder":
-            extra = f", <|a_z|> {np.mean(np.abs(axes[:, 2])):.3f} (drawn {np.mean(np.abs(bodies.axes[:, 2])):.3f})"
-        print(f"  {particles:24s} {100 * phi:5.1f}%: {'reached' if ok else 'NOT reached'} "
-              f"({len(bodies)} particles, {time.perf_counter() - t0:.1f} s{extra})", flush=True)
+        if ok and grains.bodies.shape == "cylinder":
+            extra = (f", <|a_z|> {np.mean(np.abs(placed.axes[:, 2])):.3f} "
+                     f"(drawn {np.mean(np.abs(grains.bodies.axes[:, 2])):.3f})")
+        print(f"  {particles:30s} {100 * phi:5.1f}%: {'reached' if ok else 'NOT reached'} "
+              f"({len(grains)} particles, {time.perf_counter() - t0:.1f} s{extra})", flush=True)
         if not ok:
             break
         reached = phi
@@ -103,13 +265,25 @@ def main(argv: list[str] | None = None) -> int:
     """Run the benchmark; argv are this module's options (none: the speed cases only)."""
     parser = argparse.ArgumentParser(prog="python -m benchmarks.bench_geometry", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--baseline", metavar="REV", help="also time git revision REV, side by side")
+    parser.add_argument("--cost", action="store_true", help="compare geometry_cost with measurements")
     parser.add_argument("--limits", action="store_true", help="also search the reachable concentrations")
-    parser.add_argument("--skip-speed", action="store_true", help="only the limits")
+    parser.add_argument("--variants", action="store_true", help="time the packer's dropped alternatives")
+    parser.add_argument("--skip-speed", action="store_true", help="no speed cases")
     args = parser.parse_args([] if argv is None else argv)
     if not args.skip_speed:
-        print("== speed (placement + voxelisation)")
+        print(f"== speed: generate + voxelize {GRID}, seed 1 (budgets: spheres placement + voxelisation "
+              f"10 s, cylinders placement {CYLINDER_BUDGET_S:g} s)")
         for case in SPEED_CASES:
-            speed_case(*case)
+            speed_case(case)
+        print("== timings in fresh processes (wall / CPU of placement, voxelisation, peak traced memory)")
+        compare(args.baseline)
+    if args.cost:
+        print("== geometry_cost against measurements (seed 1, wall clock)")
+        cost_cases()
+    if args.variants:
+        print("== packer variants (placement only, seed 1, H = 1000 nm)")
+        variant_cases()
     if args.limits:
         print("== reachable concentrations (thickness 1000 nm)")
         for particles, cell, ladder in LIMIT_CASES:

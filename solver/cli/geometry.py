@@ -21,7 +21,8 @@ def add_parser(sub) -> None:
     p.add_argument("--ink", required=True, help="ink, e.g. R15, Y7.5+B7.5, G30 (volume percent)")
     p.add_argument("--particles", required=True,
                    help="molecular | sphere:D[:agglutinated[=kT]][:rough[=f]][:spread=σ] | "
-                        "cylinder:D:isotropic|inplane|vertical (D in nm)")
+                        "cylinder:D:isotropic|inplane|vertical[:tilt=DEG] (D in nm; tilt: orientation "
+                        "spread of aligned cylinders, degrees)")
     p.add_argument("--thickness", type=float, default=1000.0, help="layer thickness, nm")
     p.add_argument("--cell", type=float, nargs="+", default=[2000.0], metavar="NM",
                    help="cell period in x (and y), nm")
@@ -31,7 +32,24 @@ def add_parser(sub) -> None:
     p.add_argument("--png", help="write the section pictures here")
     p.add_argument("--z", type=float, default=None, help="depth of the horizontal section, nm (default: middle)")
     p.add_argument("--y", type=float, default=None, help="y of the vertical section, nm (default: middle)")
+    p.add_argument("--progress", action="store_true", help="show a progress bar of the generation stages")
     p.set_defaults(func=run)
+
+
+def progress_bar():
+    """A tqdm bar fed by generate's progress(stage, fraction); returns (callback, close)."""
+    from tqdm import tqdm
+
+    from ..geometry import GENERATE_STAGES
+
+    bar = tqdm(total=len(GENERATE_STAGES), unit="stage", bar_format="{desc} {percentage:3.0f}%|{bar}| {elapsed}")
+
+    def update(stage: str, fraction: float) -> None:
+        bar.set_description(stage)
+        bar.n = GENERATE_STAGES.index(stage) + fraction
+        bar.refresh()
+
+    return update, bar.close
 
 
 def run(args) -> int:
@@ -48,7 +66,11 @@ def run(args) -> int:
         raise ValueError(f"--cell takes one or two lengths, got {len(args.cell)}")
     cell = (args.cell[0], args.cell[-1])
     layer = LayerSpec(ink, particles, thickness_nm=args.thickness, cell_nm=cell)
-    real = generate(layer, args.seed)
+    update, close = progress_bar() if args.progress else (None, lambda: None)
+    try:
+        real = generate(layer, args.seed, progress=update)
+    finally:
+        close()
     vox = voxelize(real, tuple(args.grid))
     print(summary(real, vox))
     if args.png:

@@ -5,19 +5,25 @@
     vox = voxelize(real, (128, 128, 64))       # sub-voxel volume fractions, once per realization
     eps = eps_grid(vox, 550.0)                 # complex ε per voxel at λ = 550 nm
 
+`geometry_cost(layer, grid)` estimates grains, time and memory before any work;
+`smallest_tilt_reaching(layer)` picks an orientation spread that makes a concentration reachable.
 See docs/geometry.md for the algorithms and measured numbers.
 """
 
-from .generate import GeneratorStats, Realization, generate
-from .limits import reachable_limit
+from .cost import GeometryCost, geometry_cost
+from .generate import GENERATE_STAGES, GeneratorStats, Realization, generate
+from .limits import DEFAULT_TILTS_DEG, reachable_limit, smallest_tilt_reaching
+from .placement import Placement, place
+from .populations import Grains, draw_grains
 from .spec import (AGGLUTINATED_DEFAULT_KT, GeometryError, LayerSpec, ParticleSpec, ParticleSpecError,
                    UnreachableConcentrationError, cylinder_radius_length, parse_particles)
 from .statistics import ClusterStats, cluster_statistic, find_overlaps, pair_correlation
 from .voxelize import VoxelFractions, eps_grid, voxelize
 
 __all__ = [
-    "AGGLUTINATED_DEFAULT_KT", "ClusterStats", "GeneratorStats", "GeometryError", "LayerSpec",
-    "ParticleSpec", "ParticleSpecError", "Realization", "UnreachableConcentrationError",
-    "VoxelFractions", "cluster_statistic", "cylinder_radius_length", "eps_grid", "find_overlaps",
-    "generate", "pair_correlation", "parse_particles", "reachable_limit", "voxelize",
+    "AGGLUTINATED_DEFAULT_KT", "ClusterStats", "DEFAULT_TILTS_DEG", "GENERATE_STAGES", "GeneratorStats",
+    "GeometryCost", "GeometryError", "Grains", "LayerSpec", "ParticleSpec", "ParticleSpecError", "Placement",
+    "Realization", "UnreachableConcentrationError", "VoxelFractions", "cluster_statistic", "cylinder_radius_length",
+    "draw_grains", "eps_grid", "find_overlaps", "generate", "geometry_cost", "pair_correlation", "parse_particles",
+    "place", "reachable_limit", "smallest_tilt_reaching", "voxelize",
 ]

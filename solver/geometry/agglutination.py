@@ -8,7 +8,7 @@ strength ε (in kT; the spec's `agglutinated=ε`) between every pair, whatever t
 Step (units kT = 1, mobility·Δt = δ²/2 with δ the rms random step per coordinate):
   x ← x + (δ²/2)·F + δ·ξ,  F = −∇U  (each pair pulls its two grains together along the normal,
   the pull capped at δ per step), ξ ~ N(0, 1); then one rigid-body overlap-removal sweep
-  (`packing.push_apart`) and the wall clamp.  After `steps` steps `packing.pack` removes the
+  (`motion.push_apart`) and the wall clamp.  After `steps` steps `packing.pack` removes the
   last overlaps.  ε = 0 gives a hard-particle fluid (the placement is just stirred); growing ε
   gives more and bigger clusters — `statistics.cluster_statistic` measures it.
 """
@@ -20,8 +20,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .packing import (PackOptions, PackStats, _apply_walls, _Verlet, pack, pair_normals_gaps,
-                      push_apart, spatial_order)
+from .motion import pair_normals_gaps, push_apart
+from .neighbours import PairList, spatial_order
+from .packing import PackOptions, PackStats, pack
 from .shapes import Bodies
 from .walls import Walls
 
@@ -45,8 +46,9 @@ class AgglutinationStats:
 def agglutinate(bodies: Bodies, walls: Walls, centres: np.ndarray, period_nm, strength_kT: float,
                 rng: np.random.Generator, rotation: str = "none",
                 options: AgglutinationOptions = AgglutinationOptions(),
-                pack_options: PackOptions = PackOptions(), reference_axes=None):
-    """Brownian dynamics with attraction; returns (centres, axes, stats), overlap-free."""
+                pack_options: PackOptions = PackOptions(), reference_axes=None, progress=None):
+    """Brownian dynamics with attraction; returns (centres, axes, stats), overlap-free.
+    progress(fraction) is called now and then when given (the steps count 0.8, the final pack 0.2)."""
     t0 = time.perf_counter()
     n = len(bodies)
     mean_d = 2.0 * float(np.mean(bodies.radii_nm)) if n else 1.0
@@ -58,9 +60,11 @@ def agglutinate(bodies: Bodies, walls: Walls, centres: np.ndarray, period_nm, st
     lam = options.well_range * mean_d
     reach = 2.0 * float(body.bounding_radii_nm.max()) + options.cutoff * lam if n else 0.0
     margin = pack_options.margin * 0.5 * mean_d
-    verlet = _Verlet(period_nm, pack_options.skin * 0.5 * mean_d + options.cutoff * lam)
+    verlet = PairList(period_nm, pack_options.skin * 0.5 * mean_d + options.cutoff * lam)
     vol = body.volumes_nm3
-    for _ in range(options.steps if n > 1 else 0):
+    for step in range(options.steps if n > 1 else 0):
+        if progress is not None and step % 50 == 0:
+            progress(0.8 * step / options.steps)
         i, j = verlet.pairs(xyz, reach, reach)
         normal, gap = pair_normals_gaps(body, xyz, i, j, period_nm, verlet.hint, margin,
                                         pack_options.search_iterations)
@@ -80,13 +84,14 @@ def agglutinate(bodies: Bodies, walls: Walls, centres: np.ndarray, period_nm, st
                 xyz[k] += np.bincount(ia, weights=wi * move, minlength=n)
                 xyz[k] -= np.bincount(ja, weights=(1.0 - wi) * move, minlength=n)
         xyz += rng.normal(0.0, delta, xyz.shape)
-        _apply_walls(xyz, body, wall)
+        wall.clamp(xyz, body)
     out = np.empty((n, 3))
     out[perm] = xyz.T
     out_axes = np.empty((n, 3))
     out_axes[perm] = body.axes
     final_centres, final_axes, stats = pack(Bodies(bodies.shape, bodies.radii_nm, bodies.half_lengths_nm, out_axes),
                                             walls, out, period_nm, 1.0, pack_options, rotation,
-                                            reference_axes)
+                                            reference_axes,
+                                            None if progress is None else (lambda f: progress(0.8 + 0.2 * f)))
     return final_centres, final_axes, AgglutinationStats(strength_kT, options.steps,
                                                          time.perf_counter() - t0, stats)

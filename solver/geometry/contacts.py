@@ -21,59 +21,13 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.spatial import cKDTree
 
+from .neighbours import min_image
 from .shapes import Bodies
 
 #: Pattern-search directions and iterations for the cylinder separating axis.
 _SEARCH_DIRECTIONS = 8
 _SEARCH_ITERATIONS = 60
-
-
-def wrap_xy(centres: np.ndarray, period_nm: tuple[float, float]) -> np.ndarray:
-    """Centres with x, y brought into [0, L)."""
-    out = np.array(centres, dtype=float, copy=True)
-    for k in (0, 1):
-        out[:, k] = np.mod(out[:, k], period_nm[k])
-        out[out[:, k] >= period_nm[k], k] = 0.0
-    return out
-
-
-def min_image(d: np.ndarray, period_nm: tuple[float, float]) -> np.ndarray:
-    """Nearest periodic image of separation vectors d (..., 3) in x and y (in place, returned)."""
-    for k in (0, 1):
-        d[..., k] -= period_nm[k] * np.round(d[..., k] / period_nm[k])
-    return d
-
-
-def neighbour_pairs(centres: np.ndarray, cutoff_nm: float, period_nm: tuple[float, float]):
-    """All pairs i < j whose centres lie closer than cutoff (periodic in x, y; not in z)."""
-    if len(centres) < 2:
-        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
-    tree = cKDTree(wrap_xy(centres, period_nm), boxsize=[period_nm[0], period_nm[1], 0.0])
-    pairs = tree.query_pairs(cutoff_nm, output_type="ndarray")
-    return pairs[:, 0].astype(np.int64), pairs[:, 1].astype(np.int64)
-
-
-def cross_pairs(centres_a: np.ndarray, centres_b: np.ndarray, cutoff_nm: float, period_nm, k: int = 16):
-    """Pairs (ia, ib) between two point sets whose centres lie closer than cutoff
-    (k-nearest queries, k doubled for the points that have more neighbours than k)."""
-    if len(centres_a) == 0 or len(centres_b) == 0:
-        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
-    tree = cKDTree(wrap_xy(centres_b, period_nm), boxsize=[period_nm[0], period_nm[1], 0.0])
-    query = wrap_xy(centres_a, period_nm)
-    rows = np.arange(len(query))
-    out_a, out_b = [], []
-    while rows.size:
-        kk = min(k, len(centres_b))
-        dist, idx = tree.query(query[rows], k=kk, distance_upper_bound=cutoff_nm)
-        dist, idx = dist.reshape(len(rows), kk), idx.reshape(len(rows), kk)
-        full = np.isfinite(dist[:, -1]) & (kk < len(centres_b))
-        hit = np.isfinite(dist) & ~full[:, None]
-        out_a.append(np.broadcast_to(rows[:, None], hit.shape)[hit])
-        out_b.append(idx[hit])
-        rows, k = rows[full], 2 * k
-    return np.concatenate(out_a).astype(np.int64), np.concatenate(out_b).astype(np.int64)
 
 
 @dataclass(frozen=True, eq=False)
@@ -83,8 +37,27 @@ class Separation:
 
 
 def _unit(v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    norm = np.linalg.norm(v, axis=-1)
+    norm = np.sqrt(np.einsum("...c,...c->...", v, v))
     return v / np.where(norm > 0, norm, 1.0)[..., None], norm
+
+
+def _parallel_axis(d, ai, aj, ri, rj, hi, hj):
+    """Optimal separating axis of pairs with parallel axes (zero where not parallel).
+
+    Two parallel cylinders differ by a cylinder of radius R = r_i + r_j and half length
+    H = h_i + h_j about the common axis; with d split into axial z and radial ρ parts, the
+    signed distance is ρ − R (beside), z − H (above), √((ρ−R)² + (z−H)²) (off the rim) or
+    max(ρ − R, z − H) (overlapping), along the matching combination of the two directions."""
+    parallel = np.abs(np.einsum("pc,pc->p", ai, aj)) > 1.0 - 1e-12
+    z = np.einsum("pc,pc->p", d, ai)
+    radial, rho = _unit(d - z[:, None] * ai)
+    along = np.abs(z) - hi - hj
+    beside = rho - ri - rj
+    off = (along > 0) & (beside > 0)
+    wa = np.where(off, along, np.where(along > beside, 1.0, 0.0))
+    wr = np.where(off, beside, np.where(along > beside, 0.0, 1.0))
+    n = wa[:, None] * np.sign(z)[:, None] * ai + wr[:, None] * radial
+    return np.where(parallel[:, None], _unit(n)[0], 0.0), parallel
 
 
 def support_gap(n, d, ai, aj, ri, rj, hi, hj):
@@ -168,9 +141,9 @@ def _refine_axis(n, g, d, ai, aj, ri, rj, hi, hj, target, iterations=_SEARCH_ITE
     return n, g
 
 
-def _ridge_search(d, ai, aj, ri, rj, hi, hj, axis):
+def _ridge_search(d, ai, aj, ri, rj, hi, hj, axis, samples=24, golden=28):
     """Best g(n) over the great circle n ⟂ axis (where a cylinder's side faces the other body):
-    24 samples on the half circle, then golden-section refinement around the best."""
+    `samples` samples on the half circle, then `golden` golden-section steps around the best."""
     u, v = _tangent_basis(axis)
     args = (d, ai, aj, ri, rj, hi, hj)
 
@@ -178,7 +151,7 @@ def _ridge_search(d, ai, aj, ri, rj, hi, hj, axis):
         n = np.cos(theta)[..., None] * u[:, None, :] + np.sin(theta)[..., None] * v[:, None, :]
         return support_gap(n, *args), n
 
-    k = 24
+    k = samples
     theta = np.broadcast_to(np.pi * np.arange(k) / k, (len(d), k))
     g, _ = g_at(theta)
     best = np.argmax(g, axis=1)
@@ -189,7 +162,7 @@ def _ridge_search(d, ai, aj, ri, rj, hi, hj, axis):
     x2 = lo + ratio * (hi_ - lo)
     g1 = g_at(x1[:, None])[0][:, 0]
     g2 = g_at(x2[:, None])[0][:, 0]
-    for _ in range(28):
+    for _ in range(golden):
         left = g1 >= g2                                # the maximum lies in [lo, x2]
         hi_ = np.where(left, x2, hi_)
         lo = np.where(left, lo, x1)
@@ -217,28 +190,33 @@ def _cylinder_separation(d, ai, aj, ri, rj, hi, hj, hint, margin, iterations=_SE
              _unit(dd - np.einsum("pc,pc->p", dd, a2)[:, None] * a2)[0]]
     if hint is not None:
         cands.append(hint[need])
+    n_par, parallel = _parallel_axis(*sub)
+    cands.append(n_par)
     stack = np.stack(cands, axis=1)
-    g_all = np.where(np.linalg.norm(stack, axis=-1) > 0.5, support_gap(stack, *sub), -np.inf)
+    g_all = np.where(np.einsum("pkc,pkc->pk", stack, stack) > 0.25, support_gap(stack, *sub), -np.inf)
     best = np.argmax(g_all, axis=1)
     n_best = stack[np.arange(need.size), best].copy()
     g_best = g_all[np.arange(need.size), best].copy()
+    # Parallel axes (vertical cylinders): that candidate is the optimum, exactly; no search.
     # Warm start (packing iterations between full searches): a short local search from the
     # best of the candidates and the pair's previous axis.
     warm = np.zeros(need.size, dtype=bool)
     if hint is not None and not full_search:
-        warm = g_best < margin
+        warm = (g_best < margin) & ~parallel
         if warm.any():
             w = np.flatnonzero(warm)
             part = tuple(x[w] for x in sub)
             n_best[w], g_best[w] = _refine_axis(n_best[w], g_best[w], *part, np.full(w.size, margin),
                                                 iterations, step0=0.05)
-    # Side contacts: the optimum lies on a circle n ⟂ a_i or n ⟂ a_j.
-    open_ = np.flatnonzero((g_best < margin) & ~warm)
+    # Side contacts: the optimum lies on a circle n ⟂ a_i or n ⟂ a_j (a coarser 1-D search when
+    # the caller asked for a short search: packing iterations).
+    ridge = {} if iterations >= _SEARCH_ITERATIONS else {"samples": 16, "golden": 12}
+    open_ = np.flatnonzero((g_best < margin) & ~warm & ~parallel)
     for which in (1, 2):
         if open_.size == 0:
             break
         part = tuple(x[open_] for x in sub)
-        n_r, g_r = _ridge_search(*part, axis=part[which])
+        n_r, g_r = _ridge_search(*part, axis=part[which], **ridge)
         better = g_r > g_best[open_]
         n_best[open_[better]] = n_r[better]
         g_best[open_[better]] = g_r[better]

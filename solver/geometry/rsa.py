@@ -14,7 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .contacts import cross_pairs, neighbour_pairs, separation
+from .contacts import separation
+from .neighbours import cross_pairs, neighbour_pairs
 from .shapes import Bodies
 from .walls import Walls
 
@@ -57,12 +58,13 @@ def _sequential_keep(owner: np.ndarray, first: np.ndarray, second: np.ndarray, o
 
 
 def rsa(bodies: Bodies, walls: Walls, period_nm, rng: np.random.Generator,
-        max_tries_per_particle: float = 40.0, min_batch: int = 512) -> RsaResult:
+        max_tries_per_particle: float = 40.0, min_batch: int = 512, progress=None) -> RsaResult:
     """Place bodies by RSA; stop when the tries run out.
 
     Each round, every waiting particle gets `t` tries (t grows as the acceptance falls); the
     tries are ordered try-major (all first tries, then all second tries, ...) and accepted by
-    the sequential rule, so a round is equivalent to taking them one after another."""
+    the sequential rule, so a round is equivalent to taking them one after another.
+    progress(fraction placed) is called after each round when given."""
     n = len(bodies)
     centres = np.full((n, 3), np.nan)
     placed = np.zeros(n, dtype=bool)
@@ -96,4 +98,6 @@ def rsa(bodies: Bodies, walls: Walls, period_nm, rng: np.random.Generator,
         placed[owner[kept]] = True
         accept = kept.sum() / max(1, owner.size)
         queue = np.concatenate([queue[head.size:], head[~placed[head]]])
+        if progress is not None:
+            progress(float(placed.sum()) / max(1, n))
     return RsaResult(centres, placed, tries)

@@ -103,14 +103,27 @@ def contains(bodies: Bodies, dx: np.ndarray, dy: np.ndarray, dz: np.ndarray) -> 
     return (np.abs(t) < bodies.half_lengths_nm[:, None]) & (radial2 < r * r)
 
 
-def sample_orientations(mode: str, n: int, rng: np.random.Generator) -> np.ndarray:
-    """Unit axes (n, 3), a_z >= 0: 'isotropic' (uniform on the sphere: a_z uniform in [0, 1]),
-    'inplane' (a_z = 0, azimuth uniform), 'vertical' (all (0, 0, 1))."""
-    if mode == "vertical":
+def sample_orientations(mode: str, n: int, rng: np.random.Generator, tilt_rad: float = 0.0) -> np.ndarray:
+    """Unit axes (n, 3), a_z ≥ 0, uniform on the part of the sphere the mode allows (Archimedes:
+    uniform on the sphere ⇔ a_z uniform), azimuth uniform:
+
+    * 'isotropic': the whole sphere, a_z uniform in [0, 1];
+    * 'vertical': the cap within tilt_rad of the vertical, a_z uniform in [cos tilt, 1]
+      (tilt 0: all (0, 0, 1));
+    * 'inplane': the band within tilt_rad of the layer plane, a_z uniform in [0, sin tilt]
+      (tilt 0: a_z = 0)."""
+    if mode not in ("isotropic", "inplane", "vertical"):
+        raise ValueError(f"unknown orientation {mode!r}")
+    if mode == "vertical" and tilt_rad == 0:
         return np.tile([0.0, 0.0, 1.0], (n, 1))
     phi = rng.uniform(0.0, 2.0 * np.pi, n)
-    cos_t = rng.uniform(0.0, 1.0, n) if mode == "isotropic" else np.zeros(n)
-    if mode not in ("isotropic", "inplane"):
-        raise ValueError(f"unknown orientation {mode!r}")
+    if mode == "isotropic":
+        cos_t = rng.uniform(0.0, 1.0, n)
+    elif mode == "vertical":
+        cos_t = rng.uniform(np.cos(tilt_rad), 1.0, n)
+    elif tilt_rad > 0:
+        cos_t = rng.uniform(0.0, np.sin(tilt_rad), n)
+    else:
+        cos_t = np.zeros(n)
     sin_t = np.sqrt(1.0 - cos_t**2)
     return np.stack([sin_t * np.cos(phi), sin_t * np.sin(phi), cos_t], axis=1)

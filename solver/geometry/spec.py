@@ -10,6 +10,8 @@
     sphere:300:spread=0.2        log-normal diameters, σ = 0.2 (median = the given diameter)
     cylinder:200:inplane         cylinders of *effective* diameter 200 nm (sphere of equal volume),
                                  length 6 radii; orientation isotropic | inplane | vertical
+    cylinder:300:vertical:tilt=15   axes spread uniformly over the cone of half-angle 15° about
+                                 the vertical (inplane: elevation within ±15° of the layer plane)
 
 Lengths are in nm.  `ParticleSpec.label` is the canonical string (every default written out),
 stable for use as a cache key: parse_particles(spec.label) == spec.
@@ -38,6 +40,8 @@ ROUGH_DEFAULT = 0.5
 CYLINDER_LENGTH_RADII = 6.0
 #: Log-normal diameters are truncated at this many σ from the median.
 SPREAD_TRUNCATION_SIGMA = 3.0
+#: Orientations that take an orientation spread (`tilt=`).
+TILTED_ORIENTATIONS = ("inplane", "vertical")
 
 
 class ParticleSpecError(ValueError):
@@ -71,6 +75,9 @@ class ParticleSpec:
     rough_top: 0 = flat binder top; p in (0, 1) = a particle may stand out of the binder's top
     surface by up to this fraction of its height.
     size_spread: σ of ln(diameter) (0 = all equal).
+    tilt_rad: orientation spread of aligned cylinders (radians, 0 ≤ tilt < π/2): vertical axes
+    are uniform on the cap within tilt of the vertical, in-plane axes uniform on the band within
+    tilt of the layer plane (`shapes.sample_orientations`); 0 = exactly aligned.
     """
 
     shape: str
@@ -79,6 +86,7 @@ class ParticleSpec:
     agglutination_kT: float = 0.0
     rough_top: float = 0.0
     size_spread: float = 0.0
+    tilt_rad: float = 0.0
 
     def __post_init__(self):
         if self.shape not in SHAPES:
@@ -101,6 +109,14 @@ class ParticleSpec:
             raise ParticleSpecError(f"rough top must be a protruding fraction in [0, 1), got {self.rough_top!r}")
         if not (0.0 <= self.size_spread <= 1.0):
             raise ParticleSpecError(f"size spread (log-normal sigma) must be in [0, 1], got {self.size_spread!r}")
+        if not (isinstance(self.tilt_rad, numbers.Real) and 0.0 <= self.tilt_rad < 0.5 * math.pi):
+            shown = _fmt(math.degrees(self.tilt_rad)) if isinstance(self.tilt_rad, numbers.Real) else repr(self.tilt_rad)
+            raise ParticleSpecError(f"orientation spread tilt must be in [0, 90) degrees, got {shown}")
+        if self.tilt_rad > 0 and self.orientation not in TILTED_ORIENTATIONS:
+            raise ParticleSpecError(
+                f"tilt (orientation spread) applies to inplane or vertical cylinders only, not to "
+                f"{'spheres' if self.shape == 'sphere' else self.orientation + ' ones'}: drop 'tilt=' or use "
+                "'cylinder:D:vertical:tilt=DEG' / 'cylinder:D:inplane:tilt=DEG'")
 
     @property
     def label(self) -> str:
@@ -114,7 +130,14 @@ class ParticleSpec:
             parts.append(f"rough={_fmt(self.rough_top)}")
         if self.size_spread > 0:
             parts.append(f"spread={_fmt(self.size_spread)}")
+        if self.tilt_rad > 0:
+            parts.append(f"tilt={_fmt(self.tilt_deg)}")
         return ":".join(parts)
+
+    @property
+    def tilt_deg(self) -> float:
+        """Orientation spread in degrees (the spec string's unit)."""
+        return math.degrees(self.tilt_rad)
 
     @property
     def max_diameter_nm(self) -> float:
@@ -129,12 +152,27 @@ def cylinder_radius_length(effective_diameter_nm):
     return radius, CYLINDER_LENGTH_RADII * radius
 
 
+def polar_range_rad(spec: ParticleSpec) -> tuple[float, float]:
+    """Range of the angle between a cylinder's axis and the vertical allowed by its orientation."""
+    return {"vertical": (0.0, spec.tilt_rad), "inplane": (0.5 * math.pi - spec.tilt_rad, 0.5 * math.pi),
+            "isotropic": (0.0, 0.5 * math.pi)}[spec.orientation]
+
+
+def cylinder_height_nm(radius_nm: float, length_nm: float, polar_rad: float) -> float:
+    """Vertical extent (nm) of a cylinder whose axis makes the angle polar_rad with the vertical."""
+    return length_nm * abs(math.cos(polar_rad)) + 2.0 * radius_nm * abs(math.sin(polar_rad))
+
+
 def max_z_extent_nm(spec: ParticleSpec, diameter_nm: float) -> float:
     """Largest height (nm) a particle of this (effective) diameter can take in its orientation mode."""
     if spec.shape == "sphere":
         return diameter_nm
     r, length = cylinder_radius_length(diameter_nm)
-    return {"vertical": length, "inplane": 2 * r, "isotropic": math.hypot(length, 2 * r)}[spec.orientation]
+    lo, hi = polar_range_rad(spec)
+    peak = math.atan2(2.0 * r, length)                 # the extent L cos θ + 2r sin θ peaks here
+    if lo <= peak <= hi:
+        return math.hypot(length, 2.0 * r)
+    return max(cylinder_height_nm(r, length, lo), cylinder_height_nm(r, length, hi))
 
 
 def bounding_diameter_nm(spec: ParticleSpec, diameter_nm: float) -> float:
@@ -188,12 +226,17 @@ def parse_particles(text: str) -> ParticleSpec | None:
             kwargs["rough_top"] = _number(value, "rough-top fraction", spec) if value else ROUGH_DEFAULT
         elif key == "spread":
             kwargs["size_spread"] = _number(value, "size spread", spec) if value else 0.0
+        elif key == "tilt":
+            if not value:
+                raise ParticleSpecError(f"'tilt' in {spec!r} needs a value in degrees, e.g. 'tilt=15'")
+            kwargs["tilt_rad"] = math.radians(_number(value.removesuffix("deg"), "tilt", spec))
         elif key in ("orientation", "orient") and value:
             kwargs["orientation"] = value.strip().lower()
         else:
             raise ParticleSpecError(
                 f"unknown particle modifier {token!r} in {spec!r}: expected an orientation ("
-                + ", ".join(ORIENTATIONS) + "), 'agglutinated[=kT]', 'rough[=fraction]' or 'spread=sigma'")
+                + ", ".join(ORIENTATIONS) + "), 'agglutinated[=kT]', 'rough[=fraction]', 'spread=sigma' "
+                "or 'tilt=degrees'")
     return ParticleSpec(shape, diameter, **kwargs)
 
 

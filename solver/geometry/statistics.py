@@ -19,7 +19,8 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
-from .contacts import neighbour_pairs, separation
+from .contacts import separation
+from .neighbours import neighbour_pairs
 
 
 def close_pairs(real, extra_gap_nm: float = 0.0):

@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
-from .contacts import wrap_xy
+from .neighbours import wrap_xy
 from .shapes import Bodies
 
 MENISCUS_ANGLE_RAD = np.deg2rad(45.0)

@@ -27,6 +27,11 @@ class Walls:
         hz = bodies.half_extent_nm(2)
         return (1.0 - 2.0 * self.protrusion) * hz, self.thickness_nm - hz
 
+    def clamp(self, xyz: np.ndarray, bodies: Bodies) -> None:
+        """Clamp centre z (row 2 of xyz, shape (3, N)) into the allowed range, in place."""
+        lo, hi = self.centre_bounds(bodies)
+        np.clip(xyz[2], lo, hi, out=xyz[2])
+
     def take(self, index) -> "Walls":
         return Walls(self.thickness_nm, self.protrusion[index])
 
