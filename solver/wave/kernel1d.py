@@ -184,8 +184,8 @@ def circulant_blocks(sg: SlabGreen, offset_nm: float | None = None
         yield 0, q, toe, han
 
 
-def face_profiles(sg: SlabGreen, offset_nm: float | None = None
-                  ) -> tuple[np.ndarray, np.ndarray]:
+def face_profiles(sg: SlabGreen, offset_nm: float | None = None,
+                  tab: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Moments (offset None; shape (nb, ..., nz)) or point values at z = k·h + s (shape
     (1, ..., nz)) of the two face profiles
 
@@ -193,10 +193,11 @@ def face_profiles(sg: SlabGreen, offset_nm: float | None = None
 
     g(0, z) = i·p_top(z)/((κ + y_a)D) and g(H, z) = i·p_bot(z)/((κ + y_c)D); the background field
     of a unit wave from above (below) is 2y_a/((κ+y_a)D)·p_top (2y_c/((κ+y_c)D)·p_bot).
+    tab: sg.exp_table() if already computed.
     """
     nz, nb = sg.nz, sg.nb
     rt, rb = sg.r_top[..., None], sg.r_bottom[..., None]
-    tab = sg.exp_table()
+    tab = sg.exp_table() if tab is None else tab
     k = np.arange(nz)
     if offset_nm is None:
         integ = single_integrals(1j * sg.kappa * sg.h_nm, nb)

@@ -14,8 +14,8 @@ from .fftback import DEFAULT_FFT
 from .kernel1d import background_amplitudes
 from .krylov import (Callback, ConvergenceError, ConvergenceWarning, KrylovOutcome,
                      WaveSolverError, bicgstab, born, gmres)
-from .operator import (DEFAULT_MIN_LOSS, Background, LayerOperator, Workspace,
-                       apply_scattering, apply_system, prepare)
+from .operator import (DEFAULT_MIN_LOSS, Background, LayerOperator, Workspace, from_zmajor,
+                       prepare, scatter_zmajor, system_zmajor, to_zmajor)
 from .orders import OrderSet, diffraction_orders
 from .types import Cell, Incidence, bloch_vector
 from .vecops import one_blas_thread
@@ -96,17 +96,23 @@ def _gmres_restart(b: np.ndarray) -> int:
 
 def _run(op: LayerOperator, b: np.ndarray, method: str, tol: float, maxiter: int,
          restart: int | None, x0: np.ndarray | None, callback: Callback) -> KrylovOutcome:
+    """The iteration on the z-major layout (operator.py) for the z-major right-hand side b;
+    x0 and the returned solution and residual are in the public layout (nb, nx, ny, nz)."""
     if method == "auto":  # GMRES unless its basis would not fit in memory (docs/wave_solver.md)
         method = "gmres" if (restart or _gmres_restart(b)) >= 10 else "bicgstab"
     ws = Workspace(op)
-    kw = dict(tol=tol, maxiter=maxiter, callback=callback, x0=x0)
+    kw = dict(tol=tol, maxiter=maxiter, callback=callback,
+              x0=None if x0 is None else to_zmajor(np.asarray(x0, dtype=op.dtype)))
     with one_blas_thread():
         if method == "gmres":
             m = max(1, restart or _gmres_restart(b))
-            return gmres(lambda x, out: apply_scattering(op, x, ws, out), b, restart=m, **kw)
-        if method == "bicgstab":
-            return bicgstab(lambda x, out: apply_system(op, x, ws, out), b, **kw)
-        return born(lambda x, out: apply_scattering(op, x, ws, out), b, **kw)
+            out = gmres(lambda x, o: scatter_zmajor(op, x, ws, o), b, restart=m, **kw)
+        elif method == "bicgstab":
+            out = bicgstab(lambda x, o: system_zmajor(op, x, ws, o), b, **kw)
+        else:
+            out = born(lambda x, o: scatter_zmajor(op, x, ws, o), b, **kw)
+    r = out.residual_vector
+    return replace(out, x=from_zmajor(out.x), residual_vector=None if r is None else from_zmajor(r))
 
 
 def _check_energy(res: DiffractionResult, bound: float) -> str | None:
@@ -158,8 +164,8 @@ def solve_prepared(op: LayerOperator, from_below: bool = False, *, tol: float = 
     nx, ny, nz = op.shape
     coef, _, _ = background_amplitudes(op.green, from_below)
     prof = op.pbot if from_below else op.ptop
-    b = np.broadcast_to((coef[0, 0] * prof[:, 0, 0])[:, None, None, :].astype(op.dtype),
-                        op.unknown_shape).copy()
+    b = np.broadcast_to((coef[0, 0] * prof[:, 0, 0])[:, :, None, None].astype(op.dtype),
+                        op.zmajor_shape).copy()
     out = _run(op, b, method, tol, maxiter, restart, x0, callback)
     w = out.x
     f = op.contrast * w
