@@ -165,10 +165,8 @@ def circulant_blocks(sg: SlabGreen, offset_nm: float | None = None
                 yield p, q, toe, han
         return
     s = float(offset_nm)
-    if not 0.0 <= s <= h * (1 + 1e-12):
-        raise ValueError(f"offset_nm must lie in [0, h={h}], got {s}")
-    tau = min(s / h, 1.0)
     ep, em = np.exp(1j * sg.kappa * s)[..., None], np.exp(-1j * sg.kappa * s)[..., None]
+    self_terms = point_self_terms(sg, s, tab)
     for q in range(nb):
         toe = np.zeros(shape, dtype=complex)
         han = np.zeros(shape, dtype=complex)
@@ -176,12 +174,32 @@ def circulant_blocks(sg: SlabGreen, offset_nm: float | None = None
         sq = sign(q)
         toe[..., 1:nz] = w * ((sq * ep) * e_dm1 + (rtrb * em) * e_far0)            # k > l
         toe[..., nz + 1:] = (w * (em * e_d + (rtrb * sq * ep) * e_far))[..., ::-1]  # k < l
-        lq, rq = diag_point(q, tau, x)
-        lr, rr = diag_point_reflected(q, tau, x)
-        toe[..., 0] = ph[..., 0] * (lq + rq + rtrb[..., 0] * (
-            tab[..., 2 * nz] * em[..., 0] * lr + tab[..., 2 * nz - 1] * ep[..., 0] * rr))
+        toe[..., 0] = self_terms[q]
         han[..., :-1] = w * ((rt * ep) * e_sig + (rb * sq * em) * e_sig_far)
         yield 0, q, toe, han
+
+
+def point_self_terms(sg: SlabGreen, offset_nm: float, tab: np.ndarray | None = None
+                     ) -> list[np.ndarray]:
+    """The k = l Toeplitz entries of the point kernels (circulant_blocks with offset_nm s):
+    for each source function q, the field at z = k·h + s of the source φ_q in the same cell
+    (direct wave and the wave bounced off both faces), per harmonic (nm)."""
+    nz, h = sg.nz, sg.h_nm
+    s = float(offset_nm)
+    if not 0.0 <= s <= h * (1 + 1e-12):
+        raise ValueError(f"offset_nm must lie in [0, h={h}], got {s}")
+    tab = sg.exp_table() if tab is None else tab
+    tau = min(s / h, 1.0)
+    x = 1j * sg.kappa * h
+    ep, em = np.exp(1j * sg.kappa * s), np.exp(-1j * sg.kappa * s)
+    ph, rtrb = sg.prefactor * h, sg.r_top * sg.r_bottom
+    out = []
+    for q in range(sg.nb):
+        lq, rq = diag_point(q, tau, x)
+        lr, rr = diag_point_reflected(q, tau, x)
+        out.append(ph * (lq + rq + rtrb * (tab[..., 2 * nz] * em * lr
+                                           + tab[..., 2 * nz - 1] * ep * rr)))
+    return out
 
 
 def face_profiles(sg: SlabGreen, offset_nm: float | None = None,

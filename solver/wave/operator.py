@@ -29,8 +29,7 @@ import scipy.fft as sfft
 from .faces import (DEFAULT_TM_FACES, TMFaces, face_coefficients, harmonic_forms,
                     parse_tm_faces)
 from .fftback import DEFAULT_FFT, FFT, aligned_empty, default_workers, get_fft
-from .kernel1d import (SlabGreen, circulant_blocks, face_profiles, slab_green,
-                       vertical_wavenumber)
+from .kernel1d import SlabGreen, face_profiles, slab_green, vertical_wavenumber
 from .types import Cell
 from .zkernels import ZKernels, ZWork, apply_z, z_kernels
 
@@ -356,41 +355,3 @@ def apply_system(op: LayerOperator, w: np.ndarray, ws: Workspace | None = None,
         return from_zmajor(g)
     np.copyto(out, np.moveaxis(g, -3, -1))
     return out
-
-
-def kernel_spectra(sg: SlabGreen, offset_nm: float | None, dtype: type, workers: int
-                   ) -> tuple[np.ndarray, np.ndarray]:
-    """FFTs (length 2nz) of the unreduced circulant kernels (kernel1d.circulant_blocks),
-    shape (P, nb, nx, ny, 2nz), built one block at a time in complex128 and stored in dtype.
-    Used for the field at points inside the z-cells (energy.py)."""
-    npt = sg.nb if offset_nm is None else 1
-    shape = (npt, sg.nb) + sg.kappa.shape + (2 * sg.nz,)
-    toe_spec, han_spec = np.empty(shape, dtype=dtype), np.empty(shape, dtype=dtype)
-    for p, q, toe, han in circulant_blocks(sg, offset_nm):
-        toe_spec[p, q] = sfft.fft(toe, axis=-1, workers=workers, overwrite_x=True)
-        han_spec[p, q] = sfft.fft(han, axis=-1, workers=workers, overwrite_x=True)
-    return toe_spec, han_spec
-
-
-def convolve_z(workers: int, fhat: np.ndarray, toe_spec: np.ndarray,
-               han_spec: np.ndarray) -> np.ndarray:
-    """Apply unreduced Toeplitz+Hankel z-kernels (P, nb, ..., 2nz) to lateral-DFT moments
-    (nb, ..., nz): circular convolution T̂[q]·X[q] plus the Hankel correlation Ĥ[q]·X[−q]."""
-    nz = fhat.shape[-1]
-    xs = sfft.fft(fhat, n=2 * nz, axis=-1, workers=workers)
-    xrev = xs[..., :0:-1]                       # X[−q] for q = 1 … 2nz−1
-    npt, nb = toe_spec.shape[:2]
-    ys = np.empty((npt,) + xs.shape[1:], dtype=np.result_type(xs, toe_spec))
-    tmp = np.empty(xs.shape[1:], dtype=ys.dtype)
-    for p in range(npt):
-        acc = ys[p]
-        for q in range(nb):
-            if q == 0:
-                np.multiply(toe_spec[p, q], xs[q], out=acc)
-            else:
-                np.multiply(toe_spec[p, q], xs[q], out=tmp)
-                acc += tmp
-            np.multiply(han_spec[p, q, ..., 1:], xrev[q], out=tmp[..., 1:])
-            tmp[..., 0] = han_spec[p, q, ..., 0] * xs[q, ..., 0]
-            acc += tmp
-    return sfft.ifft(ys, axis=-1, workers=workers, overwrite_x=True)[..., :nz]

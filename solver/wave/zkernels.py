@@ -104,9 +104,9 @@ class ZWork:
         self.tmp = aligned_empty((nz, size), dtype)
 
 
-def apply_z(zk: ZKernels, xh: np.ndarray, work: ZWork) -> np.ndarray:
-    """Moments (nb, nz, H) of G·f from the lateral-DFT source moments xh (nb, nz, H), written
-    into xh and returned (module doc)."""
+def z_sums(zk: ZKernels, xh: np.ndarray, work: ZWork) -> tuple[np.ndarray, np.ndarray]:
+    """(P, Q) of the module doc, each (nz, H), for the lateral-DFT source moments xh
+    (nb, nz, H) (unchanged); views into `work`, valid until its next use."""
     nz = zk.nz
     gam, suf, low, tmp = work.gam, work.suf, work.low, work.tmp
     x0 = xh[0]
@@ -132,7 +132,14 @@ def apply_z(zk: ZKernels, xh: np.ndarray, work: ZWork) -> np.ndarray:
     low[:, :nz - 1] += bounce
     np.multiply(zk.powers[nz - 1], single, out=suf[:, 0])
     low[:, nz - 1] += suf[:, 0]
-    p, q = low[0], low[1, ::-1]
+    return low[0], low[1, ::-1]
+
+
+def apply_z(zk: ZKernels, xh: np.ndarray, work: ZWork) -> np.ndarray:
+    """Moments (nb, nz, H) of G·f from the lateral-DFT source moments xh (nb, nz, H), written
+    into xh and returned (module doc)."""
+    p, q = z_sums(zk, xh, work)
+    tmp, x0 = work.tmp, xh[0]
     np.add(p, q, out=tmp)
     tmp *= zk.scale
     if zk.nb > 1:
