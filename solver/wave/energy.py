@@ -33,7 +33,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.fft as sfft
 
-from .kernel1d import background_amplitudes, face_profiles, point_self_terms
+from .kernel1d import background_amplitudes, face_profiles, harmonic_green, point_self_terms
 from .operator import LayerOperator, to_zmajor
 from .orders import OrderSet
 from .vecops import dot
@@ -105,6 +105,7 @@ def slab_field_energy(op: LayerOperator, w_b_coef: complex, f: np.ndarray, from_
     amp = (sg.prefactor * h * single_integrals(1j * sg.kappa * h, 1)[0]).reshape(size)
     kappa = sg.kappa.reshape(size)
     u = np.empty((nz, size), dtype=complex)
+    sg00 = harmonic_green(sg, (slice(0, 1), slice(0, 1)))
     total = 0.0
     for xq, wq in zip(xg, wg):
         s = 0.5 * h * (xq + 1)
@@ -112,7 +113,7 @@ def slab_field_energy(op: LayerOperator, w_b_coef: complex, f: np.ndarray, from_
         u += (amp * np.exp(1j * kappa * (h - s))) * q
         for moment, term in zip(fh, point_self_terms(sg, s, tab)):
             u += term.reshape(size) * moment
-        ptop, pbot = face_profiles(sg, s, tab=tab)
+        ptop, pbot = face_profiles(sg00, s)
         prof = pbot if from_below else ptop
         u[:, 0] += size * w_b_coef * prof[0, 0, 0]        # the background wave (00 harmonic)
         total += 0.5 * wq * h * float(np.vdot(u, u).real)

@@ -27,7 +27,7 @@ length 2nz (circulant_blocks), applied by FFT (operator.py).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields, replace
 from typing import Iterator
 
 import numpy as np
@@ -92,6 +92,18 @@ class SlabGreen:
         coarse = np.exp(step * (8.0 * np.arange((n + 7) // 8)))
         fine = np.exp(step * np.arange(8.0))
         return (coarse[..., :, None] * fine[..., None, :]).reshape(self.kappa.shape + (-1,))[..., :n]
+
+
+def harmonic_green(sg: SlabGreen, index: tuple[slice, ...]) -> SlabGreen:
+    """The constants of the harmonics sg.kappa[index] alone (e.g. (slice(0, 1),) * 2: the 00
+    harmonic), faces included."""
+    def cut(obj, names):
+        return replace(obj, **{n: getattr(obj, n)[index] for n in names})
+
+    arrays = ("kappa", "k_above", "k_below", "r_top", "r_bottom", "denom", "y_above", "y_below")
+    faces = None if sg.faces is None else tuple(
+        cut(f, [fld.name for fld in fields(f)]) for f in sg.faces)
+    return replace(cut(sg, arrays), faces=faces)
 
 
 def slab_green(kappa: np.ndarray, k_above: np.ndarray, k_below: np.ndarray,

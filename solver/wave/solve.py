@@ -103,14 +103,13 @@ def _run(op: LayerOperator, b: np.ndarray, method: str, tol: float, maxiter: int
     ws = Workspace(op)
     kw = dict(tol=tol, maxiter=maxiter, callback=callback,
               x0=None if x0 is None else to_zmajor(np.asarray(x0, dtype=op.dtype)))
-    with one_blas_thread():
-        if method == "gmres":
-            m = max(1, restart or _gmres_restart(b))
-            out = gmres(lambda x, o: scatter_zmajor(op, x, ws, o), b, restart=m, **kw)
-        elif method == "bicgstab":
-            out = bicgstab(lambda x, o: system_zmajor(op, x, ws, o), b, **kw)
-        else:
-            out = born(lambda x, o: scatter_zmajor(op, x, ws, o), b, **kw)
+    if method == "gmres":
+        m = max(1, restart or _gmres_restart(b))
+        out = gmres(lambda x, o: scatter_zmajor(op, x, ws, o), b, restart=m, **kw)
+    elif method == "bicgstab":
+        out = bicgstab(lambda x, o: system_zmajor(op, x, ws, o), b, **kw)
+    else:
+        out = born(lambda x, o: scatter_zmajor(op, x, ws, o), b, **kw)
     r = out.residual_vector
     return replace(out, x=from_zmajor(out.x), residual_vector=None if r is None else from_zmajor(r))
 
@@ -166,22 +165,23 @@ def solve_prepared(op: LayerOperator, from_below: bool = False, *, tol: float = 
     prof = op.pbot if from_below else op.ptop
     b = np.broadcast_to((coef[0, 0] * prof[:, 0, 0])[:, :, None, None].astype(op.dtype),
                         op.zmajor_shape).copy()
-    out = _run(op, b, method, tol, maxiter, restart, x0, callback)
-    w = out.x
-    f = op.contrast * w
-    refl, trans, kz_inc = diffraction_orders(op, f, from_below)
-    big_r, big_t = refl.total, trans.total
-    a_mid = midpoint_absorption(op, w, from_below, kz_inc)
-    if exact_energy or (out.residual_vector is None and out.converged):
-        a_exact = absorption(op, w, f, from_below, kz_inc, refl, trans)
-        check = "quadrature"
-    elif out.residual_vector is None:
-        # a truncated (unconverged) Born series is not meant to conserve energy: the cheap
-        # midpoint absorption (O(h²)) reports it; exact_energy=True measures it by quadrature
-        a_exact, check = a_mid, "midpoint"
-    else:
-        a_exact, _ = closure(op, out.residual_vector, f, big_r, big_t, from_below, kz_inc)
-        check = "residual"
+    with one_blas_thread():     # vector work on one BLAS thread (vecops.py), not only Krylov's
+        out = _run(op, b, method, tol, maxiter, restart, x0, callback)
+        w = out.x
+        f = op.contrast * w
+        refl, trans, kz_inc = diffraction_orders(op, f, from_below)
+        big_r, big_t = refl.total, trans.total
+        a_mid = midpoint_absorption(op, w, from_below, kz_inc)
+        if exact_energy or (out.residual_vector is None and out.converged):
+            a_exact = absorption(op, w, f, from_below, kz_inc, refl, trans)
+            check = "quadrature"
+        elif out.residual_vector is None:
+            # a truncated (unconverged) Born series is not meant to conserve energy: the cheap
+            # midpoint absorption (O(h²)) reports it; exact_energy=True measures it by quadrature
+            a_exact, check = a_mid, "midpoint"
+        else:
+            a_exact, _ = closure(op, out.residual_vector, f, big_r, big_t, from_below, kz_inc)
+            check = "residual"
     vals = (big_r, big_t, a_exact, a_mid, out.true_residual)
     if not all(math.isfinite(v) for v in vals) or not np.all(np.isfinite(refl.amplitude)) \
             or not np.all(np.isfinite(trans.amplitude)):
