@@ -11,6 +11,7 @@ FFTW_UNALIGNED plan.  Measurements: docs/wave_solver.md, "FFT library".
 """
 from __future__ import annotations
 
+import functools
 import importlib.util
 import os
 import threading
@@ -45,7 +46,9 @@ def aligned_empty(shape, dtype) -> np.ndarray:
     return raw[start:start + n].view(dt).reshape(shape)
 
 
+@functools.lru_cache(maxsize=None)
 def fftw_available() -> bool:
+    """Whether pyFFTW is installed (looked up once per process)."""
     return importlib.util.find_spec("pyfftw") is not None
 
 

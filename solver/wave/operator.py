@@ -53,9 +53,10 @@ class Background:
     eps_nominal: ε_b as asked (before min_loss); polarisation 'te' | 'tm'; eps_face: ε_f of the
     TM face conditions (None for TE); tm_faces: the TM face forms per class of harmonic
     (faces.TMFaces; None for TE).  Arrays of shape (nx, ny) are per lateral harmonic in FFT
-    order (order indices m, n).  zk: reduced z-kernels; ptop, pbot: moments of the face
-    profiles (kernel1d.face_profiles), (nb, nx, ny, nz) in dtype; fft: the FFT backend
-    (fftback.py; its normalisation is folded into zk).
+    order (order indices m, n).  zk: the z-recursion constants (zkernels.py); ptop, pbot
+    (computed on demand; the solver needs neither): moments of the face profiles
+    (kernel1d.face_profiles), (nb, nx, ny, nz) in dtype; fft: the FFT backend (fftback.py;
+    its normalisation is folded into zk).
     """
 
     shape: tuple[int, int, int]
@@ -76,8 +77,6 @@ class Background:
     ky: np.ndarray
     green: SlabGreen
     zk: ZKernels
-    ptop: np.ndarray
-    pbot: np.ndarray
     dtype: np.dtype
     workers: int
     fft: FFT
@@ -91,6 +90,14 @@ class Background:
     def nb(self) -> int:
         """Legendre functions per z-cell (z_order + 1)."""
         return self.green.nb
+
+    @property
+    def ptop(self) -> np.ndarray:
+        return face_profiles(self.green)[0].astype(self.dtype)
+
+    @property
+    def pbot(self) -> np.ndarray:
+        return face_profiles(self.green)[1].astype(self.dtype)
 
     @property
     def unknown_shape(self) -> tuple[int, int, int, int]:
@@ -220,13 +227,10 @@ def prepare_background(shape: tuple[int, int, int], period_nm: tuple[float, floa
     sg = slab_green(kap, ka, kc, float(thickness_nm), nz, z_order + 1, faces=face_coefs)
     w = default_workers() if workers is None else int(workers)
     backend = get_fft(fft, w)
-    tab = sg.exp_table()
-    zk = z_kernels(sg, dt, normalised=backend.normalised, tab=tab)
-    ptop, pbot = face_profiles(sg, tab=tab)
+    zk = z_kernels(sg, dt, normalised=backend.normalised)
     return Background((nx, ny, nz), (lx, ly), float(thickness_nm), ea, ec,
                       float(wavelength_nm), float(kx0), float(ky0), eb, nominal, polarisation, ef,
-                      m, n, kx, ky, sg, zk, ptop.astype(dt), pbot.astype(dt), dt, w, backend,
-                      faces)
+                      m, n, kx, ky, sg, zk, dt, w, backend, faces)
 
 
 def with_contrast(bg: Background, cell: Cell) -> LayerOperator:

@@ -14,7 +14,8 @@ import numpy as np
 import scipy.fft as sfft
 
 from .kernel1d import background_amplitudes, face_weights
-from .operator import LayerOperator
+from .operator import LayerOperator, to_zmajor
+from .zkernels import face_sums
 
 
 @dataclass(frozen=True, eq=False)
@@ -59,14 +60,15 @@ class OrderSet:
 
 
 def face_amplitudes(op: LayerOperator, f: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Scattered-field harmonics at z = 0 and z = H for the node source f = V·w (moments)."""
-    nx, ny, _ = op.shape
-    fh = sfft.fft2(f, axes=(1, 2), workers=op.workers)
+    """Scattered-field harmonics at z = 0 and z = H for the node source f = V·w (moments
+    (nb, nx, ny, nz)): the face weights times the face profiles' moments against the lateral
+    DFT of f (zkernels.face_sums)."""
+    nx, ny, nz = op.shape
+    fh = sfft.fft2(to_zmajor(f), axes=(-2, -1), workers=op.workers, overwrite_x=True)
+    sum_top, sum_bot = face_sums(op.zk, fh.reshape(op.nb, nz, nx * ny))
     ctop, cbot = face_weights(op.green)
     scale = op.lateral_phase / (nx * ny)
-    top = ctop * scale * np.einsum("qijk,qijk->ij", op.ptop, fh)
-    bot = cbot * scale * np.einsum("qijk,qijk->ij", op.pbot, fh)
-    return top, bot
+    return ctop * scale * sum_top.reshape(nx, ny), cbot * scale * sum_bot.reshape(nx, ny)
 
 
 def _order_set(op: LayerOperator, amp: np.ndarray, kz: np.ndarray, kz_inc: float,

@@ -11,7 +11,7 @@ import numpy as np
 from .faces import DEFAULT_TM_FACES, TMFaces, preset_name
 from .energy import absorption, closure, midpoint_absorption
 from .fftback import DEFAULT_FFT
-from .kernel1d import background_amplitudes
+from .kernel1d import background_amplitudes, face_profiles, harmonic_green
 from .krylov import (Callback, ConvergenceError, ConvergenceWarning, KrylovOutcome,
                      WaveSolverError, bicgstab, born, gmres)
 from .operator import (DEFAULT_MIN_LOSS, Background, LayerOperator, Workspace, from_zmajor,
@@ -161,8 +161,9 @@ def solve_prepared(op: LayerOperator, from_below: bool = False, *, tol: float = 
                          f"previous result's `solution` on the same grid), got {np.shape(x0)}")
     t0 = time.perf_counter()
     nx, ny, nz = op.shape
-    coef, _, _ = background_amplitudes(op.green, from_below)
-    prof = op.pbot if from_below else op.ptop
+    green00 = harmonic_green(op.green, (slice(0, 1), slice(0, 1)))   # b: the 00 harmonic
+    coef, _, _ = background_amplitudes(green00, from_below)
+    prof = face_profiles(green00)[1 if from_below else 0]
     b = np.broadcast_to((coef[0, 0] * prof[:, 0, 0])[:, :, None, None].astype(op.dtype),
                         op.zmajor_shape).copy()
     with one_blas_thread():     # vector work on one BLAS thread (vecops.py), not only Krylov's

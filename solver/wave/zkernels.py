@@ -45,16 +45,19 @@ class ZKernels:
     """Per-harmonic z-operator data in dtype; H = nx·ny lateral harmonics in FFT order
     (C order of the (nx, ny) arrays).
 
-    step: (H,) a = e^{iκh}; powers: (nz, H) a^j for j = 0 … nz−1; far: (H,) r_t r_b a^{nz};
-    refl: (2, H) [r_t, r_b]; scale: (H,) F = P·h·I_0² (nm); scale_ratio: (H,) F·ρ (nm);
+    step: (H,) a = e^{iκh}; powers: (nz, H) a^j for j = 0 … nz−1; edge: (H,) a^{nz};
+    far: (H,) r_t r_b a^{nz}; refl: (2, H) [r_t, r_b]; integral0: (H,) I_0;
+    scale: (H,) F = P·h·I_0² (nm); scale_ratio: (H,) F·ρ (nm);
     ratio: (H,) ρ = I_1/I_0 (0 when nb = 1); diag: (nb, H) c_00, c_11 (nm).  scale,
     scale_ratio and diag include the lateral 1/(nx·ny) of an unnormalised inverse FFT.
     """
 
     step: np.ndarray
     powers: np.ndarray
+    edge: np.ndarray
     far: np.ndarray
     refl: np.ndarray
+    integral0: np.ndarray
     scale: np.ndarray
     scale_ratio: np.ndarray
     ratio: np.ndarray
@@ -89,9 +92,9 @@ def z_kernels(sg: SlabGreen, dtype: type, normalised: bool = True,
 
     powers = np.empty((nz, size), dtype=dtype)
     powers[...] = tab[..., :nz].reshape(size, nz).T
-    return ZKernels(flat(tab[..., 1]), powers, flat(rtrb * tab[..., nz]),
-                    flat(np.stack([sg.r_top, sg.r_bottom])), flat(scale), flat(scale * ratio),
-                    flat(ratio), flat(diag), nz, nb)
+    return ZKernels(flat(tab[..., 1]), powers, flat(tab[..., nz]), flat(rtrb * tab[..., nz]),
+                    flat(np.stack([sg.r_top, sg.r_bottom])), flat(integ[0]), flat(scale),
+                    flat(scale * ratio), flat(ratio), flat(diag), nz, nb)
 
 
 class ZWork:
@@ -150,3 +153,23 @@ def apply_z(zk: ZKernels, xh: np.ndarray, work: ZWork) -> np.ndarray:
     x0 *= zk.diag[0]
     x0 += tmp
     return xh
+
+
+def face_sums(zk: ZKernels, xh: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Σ_{q,k} p_top[q, k]·xh[q, k] and the same with p_bot, per harmonic (H,), for z-major
+    moments xh (nb, nz, H): the face profiles' moments (kernel1d.face_profiles) are
+    p_top[q, k] = I_q (a^k + (−1)^q r_b a^{2nz−1−k}) and
+    p_bot[q, k] = I_q ((−1)^q a^{nz−1−k} + r_t a^{nz+k}), so that with α, β of the module doc
+    the sums are I_0 (T_β + r_b a^{nz} T_α) and I_0 (T_α + r_t a^{nz} T_β),
+    T_α = Σ_k a^{nz−1−k} α_k, T_β = Σ_k a^k β_k: two weighted sums, no profile arrays."""
+    x0 = xh[0]
+    if zk.nb > 1:
+        t = xh[1] * zk.ratio
+        alpha, beta = x0 - t, x0 + t
+    else:
+        alpha = beta = x0
+    t_a = np.einsum("kh,kh->h", zk.powers[::-1], alpha)
+    t_b = np.einsum("kh,kh->h", zk.powers, beta)
+    edge = zk.edge * zk.integral0
+    return (zk.integral0 * t_b + zk.refl[1] * edge * t_a,
+            zk.integral0 * t_a + zk.refl[0] * edge * t_b)
