@@ -97,7 +97,8 @@ def _gmres_restart(b: np.ndarray) -> int:
 def _run(op: LayerOperator, b: np.ndarray, method: str, tol: float, maxiter: int,
          restart: int | None, x0: np.ndarray | None, callback: Callback) -> KrylovOutcome:
     """The iteration on the z-major layout (operator.py) for the z-major right-hand side b;
-    x0 and the returned solution and residual are in the public layout (nb, nx, ny, nz)."""
+    x0 is in the public layout (nb, nx, ny, nz), the returned solution and residual are
+    z-major."""
     if method == "auto":  # GMRES unless its basis would not fit in memory (docs/wave_solver.md)
         method = "gmres" if (restart or _gmres_restart(b)) >= 10 else "bicgstab"
     ws = Workspace(op)
@@ -110,8 +111,7 @@ def _run(op: LayerOperator, b: np.ndarray, method: str, tol: float, maxiter: int
         out = bicgstab(lambda x, o: system_zmajor(op, x, ws, o), b, **kw)
     else:
         out = born(lambda x, o: scatter_zmajor(op, x, ws, o), b, **kw)
-    r = out.residual_vector
-    return replace(out, x=from_zmajor(out.x), residual_vector=None if r is None else from_zmajor(r))
+    return out
 
 
 def _check_energy(res: DiffractionResult, bound: float) -> str | None:
@@ -168,20 +168,20 @@ def solve_prepared(op: LayerOperator, from_below: bool = False, *, tol: float = 
                         op.zmajor_shape).copy()
     with one_blas_thread():     # vector work on one BLAS thread (vecops.py), not only Krylov's
         out = _run(op, b, method, tol, maxiter, restart, x0, callback)
-        w = out.x
-        f = op.contrast * w
-        refl, trans, kz_inc = diffraction_orders(op, f, from_below)
+        f_z = op.contrast_zmajor * out.x                          # z-major, as out.x
+        w = from_zmajor(out.x)
+        refl, trans, kz_inc = diffraction_orders(op, f_z, from_below, zmajor=True)
         big_r, big_t = refl.total, trans.total
         a_mid = midpoint_absorption(op, w, from_below, kz_inc)
         if exact_energy or (out.residual_vector is None and out.converged):
-            a_exact = absorption(op, w, f, from_below, kz_inc, refl, trans)
+            a_exact = absorption(op, w, from_zmajor(f_z), from_below, kz_inc, refl, trans)
             check = "quadrature"
         elif out.residual_vector is None:
             # a truncated (unconverged) Born series is not meant to conserve energy: the cheap
             # midpoint absorption (O(h²)) reports it; exact_energy=True measures it by quadrature
             a_exact, check = a_mid, "midpoint"
         else:
-            a_exact, _ = closure(op, out.residual_vector, f, big_r, big_t, from_below, kz_inc)
+            a_exact, _ = closure(op, out.residual_vector, f_z, big_r, big_t, from_below, kz_inc)
             check = "residual"
     vals = (big_r, big_t, a_exact, a_mid, out.true_residual)
     if not all(math.isfinite(v) for v in vals) or not np.all(np.isfinite(refl.amplitude)) \

@@ -17,8 +17,9 @@ the moments of G·f are y_0 = F (P + Q) + c_00 x_0 and y_1 = ρF (P − Q) + c_1
 cell index of the second channel (γ⁰ = α, γ¹_k = β_{nz−1−k}, r⁰ = r_t, r¹ = r_b) gives both
 channels one form:
 
-    Out^c_k = L^c_k + a^k·(r_t r_b a^{nz}·S^c_{k+1} + r^c·S^{1−c}_0),
-    L^c_k = Σ_{l<k} a^{k−1−l} γ^c_l  (L_k = a·L_{k−1} + γ_{k−1}: a forward recursion, |a| < 1),
+    Out^c_k = M^c_k + r_t r_b a^{nz+k}·S^c_{k+1},
+    M^c_k = r^c S^{1−c}_0 a^k + Σ_{l<k} a^{k−1−l} γ^c_l   (M_0 = r^c S^{1−c}_0,
+            M_k = a·M_{k−1} + γ_{k−1}: a forward recursion, |a| < 1),
     S^c_k = Σ_{l≥k} a^{nz−1−l} γ^c_l  (suffix sums of a weighted input; S_nz = 0),
 
 P = Out⁰, Q_k = Out¹_{nz−1−k}.  Every factor has modulus ≤ 1 (evanescent harmonics only
@@ -46,7 +47,7 @@ class ZKernels:
     (C order of the (nx, ny) arrays).
 
     step: (H,) a = e^{iκh}; powers: (nz, H) a^j for j = 0 … nz−1; edge: (H,) a^{nz};
-    far: (H,) r_t r_b a^{nz}; refl: (2, H) [r_t, r_b]; integral0: (H,) I_0;
+    far_powers: (nz − 1, H) r_t r_b a^{nz+j}; refl: (2, H) [r_t, r_b]; integral0: (H,) I_0;
     scale: (H,) F = P·h·I_0² (nm); scale_ratio: (H,) F·ρ (nm);
     ratio: (H,) ρ = I_1/I_0 (0 when nb = 1); diag: (nb, H) c_00, c_11 (nm).  scale,
     scale_ratio and diag include the lateral 1/(nx·ny) of an unnormalised inverse FFT.
@@ -55,7 +56,7 @@ class ZKernels:
     step: np.ndarray
     powers: np.ndarray
     edge: np.ndarray
-    far: np.ndarray
+    far_powers: np.ndarray
     refl: np.ndarray
     integral0: np.ndarray
     scale: np.ndarray
@@ -92,7 +93,9 @@ def z_kernels(sg: SlabGreen, dtype: type, normalised: bool = True,
 
     powers = np.empty((nz, size), dtype=dtype)
     powers[...] = tab[..., :nz].reshape(size, nz).T
-    return ZKernels(flat(tab[..., 1]), powers, flat(tab[..., nz]), flat(rtrb * tab[..., nz]),
+    far_powers = np.empty((nz - 1, size), dtype=dtype)
+    far_powers[...] = (rtrb[..., None] * tab[..., nz:2 * nz - 1]).reshape(size, nz - 1).T
+    return ZKernels(flat(tab[..., 1]), powers, flat(tab[..., nz]), far_powers,
                     flat(np.stack([sg.r_top, sg.r_bottom])), flat(integ[0]), flat(scale),
                     flat(scale * ratio), flat(ratio), flat(diag), nz, nb)
 
@@ -123,18 +126,14 @@ def z_sums(zk: ZKernels, xh: np.ndarray, work: ZWork) -> tuple[np.ndarray, np.nd
     np.multiply(gam, zk.powers[::-1], out=suf)        # a^{nz−1−l} γ_l
     for k in range(nz - 2, -1, -1):                   # suffix sums S_k
         suf[:, k] += suf[:, k + 1]
-    low[:, 0] = 0                                     # L_k = a L_{k−1} + γ_{k−1}
+    # L_k + a^k r^c S^{1−c}_0 = M_k: M_k = a M_{k−1} + γ_{k−1} from M_0 = r^c S^{1−c}_0
+    np.multiply(zk.refl, suf[::-1, 0], out=low[:, 0])
     for k in range(1, nz):
         np.multiply(low[:, k - 1], zk.step, out=low[:, k])
         low[:, k] += gam[:, k - 1]
-    single = zk.refl * suf[::-1, 0]                   # r^c S^{1−c}_0
-    bounce = suf[:, 1:]                               # S_{k+1}, k = 0 … nz−2
-    bounce *= zk.far
-    bounce += single[:, None, :]
-    bounce *= zk.powers[:nz - 1]
+    bounce = suf[:, 1:]                               # r_t r_b a^{nz+k} S_{k+1}, k < nz−1
+    bounce *= zk.far_powers
     low[:, :nz - 1] += bounce
-    np.multiply(zk.powers[nz - 1], single, out=suf[:, 0])
-    low[:, nz - 1] += suf[:, 0]
     return low[0], low[1, ::-1]
 
 
