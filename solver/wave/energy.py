@@ -101,7 +101,8 @@ def slab_field_energy(op: LayerOperator, w_b_coef: complex, f: np.ndarray, from_
     fh = sfft.fft2(fz, axes=(-2, -1), workers=op.workers, overwrite_x=True)
     fh = fh.reshape(sg.nb, nz, size)
     tab = sg.exp_table()
-    p, q = z_sums(z_kernels(sg, np.complex128, tab=tab), fh, ZWork(nz, size, np.complex128))
+    work = ZWork(nz, size, np.complex128)
+    p, q = z_sums(z_kernels(sg, np.complex128, tab=tab), fh, work)
     amp = (sg.prefactor * h * single_integrals(1j * sg.kappa * h, 1)[0]).reshape(size)
     kappa = sg.kappa.reshape(size)
     u = np.empty((nz, size), dtype=complex)
@@ -117,6 +118,7 @@ def slab_field_energy(op: LayerOperator, w_b_coef: complex, f: np.ndarray, from_
         prof = pbot if from_below else ptop
         u[:, 0] += size * w_b_coef * prof[0, 0, 0]        # the background wave (00 harmonic)
         total += 0.5 * wq * h * float(np.vdot(u, u).real)
+    work.release()
     lx, ly = op.cell.period_nm
     return total * lx * ly / size ** 2
 

@@ -149,7 +149,7 @@ def gmres(scatter: Apply, b: np.ndarray, *, tol: float, maxiter: int, restart: i
         z = -unrotated[:j_used + 1, :j_used] @ y      # β e_1 − H̄ y
         z[0] += beta
         r, r2 = basis.combine(x, y, z)
-        del basis
+        basis.release()
         rel, prev = math.sqrt(r2) / bnorm, rel
         floor = history[-1] <= tol < rel and rel > 0.5 * prev   # estimate met, truth cannot
         if floor or rel > 0.99 * prev:                           # ... or stagnation

@@ -29,6 +29,7 @@ import scipy.fft as sfft
 from .faces import (DEFAULT_TM_FACES, TMFaces, face_coefficients, harmonic_forms,
                     parse_tm_faces)
 from .fftback import DEFAULT_FFT, FFT, aligned_empty, default_workers, get_fft
+from .scratch import borrow, give_back
 from .kernel1d import SlabGreen, face_profiles, slab_green, vertical_wavenumber
 from .types import Cell
 from .zkernels import ZKernels, ZWork, apply_z, z_kernels
@@ -292,12 +293,18 @@ def from_zmajor(a: np.ndarray) -> np.ndarray:
 
 
 class Workspace:
-    """Scratch arrays of one solve, reused by every operator application (one per thread)."""
+    """Scratch arrays of one solve, reused by every operator application (one per thread),
+    borrowed from the thread's scratch pool (scratch.py) until release()."""
 
     def __init__(self, op: LayerOperator | Background):
         nx, ny, nz = op.shape
-        self.f = aligned_empty(op.zmajor_shape, op.dtype)
+        self.f = borrow(op.zmajor_shape, op.dtype)
         self.z = ZWork(nz, nx * ny, op.dtype)
+
+    def release(self) -> None:
+        give_back(self.f)
+        self.z.release()
+        del self.f, self.z
 
 
 def _green_zmajor(op: LayerOperator, f: np.ndarray, ws: Workspace) -> np.ndarray:

@@ -104,14 +104,15 @@ def _run(op: LayerOperator, b: np.ndarray, method: str, tol: float, maxiter: int
     ws = Workspace(op)
     kw = dict(tol=tol, maxiter=maxiter, callback=callback,
               x0=None if x0 is None else to_zmajor(np.asarray(x0, dtype=op.dtype)))
-    if method == "gmres":
-        m = max(1, restart or _gmres_restart(b))
-        out = gmres(lambda x, o: scatter_zmajor(op, x, ws, o), b, restart=m, **kw)
-    elif method == "bicgstab":
-        out = bicgstab(lambda x, o: system_zmajor(op, x, ws, o), b, **kw)
-    else:
-        out = born(lambda x, o: scatter_zmajor(op, x, ws, o), b, **kw)
-    return out
+    try:
+        if method == "gmres":
+            m = max(1, restart or _gmres_restart(b))
+            return gmres(lambda x, o: scatter_zmajor(op, x, ws, o), b, restart=m, **kw)
+        if method == "bicgstab":
+            return bicgstab(lambda x, o: system_zmajor(op, x, ws, o), b, **kw)
+        return born(lambda x, o: scatter_zmajor(op, x, ws, o), b, **kw)
+    finally:
+        ws.release()
 
 
 def _check_energy(res: DiffractionResult, bound: float) -> str | None:

@@ -19,7 +19,7 @@ from typing import Iterator
 
 import numpy as np
 
-from .fftback import aligned_empty
+from .scratch import borrow, give_back
 
 #: elements per BLAS call in inner products (partial sums in complex128 across chunks)
 CHUNK = 32768
@@ -71,7 +71,8 @@ def norm(v: np.ndarray) -> float:
 
 class Basis:
     """Krylov basis as rows of 2-D blocks of BLOCK rows, allocated as the iteration reaches
-    them (memory follows the iterations taken, also as counted by tracemalloc).
+    them (memory follows the iterations taken, also as counted by tracemalloc), borrowed from
+    the thread's scratch pool (scratch.py) and given back by release().
 
     The Gram–Schmidt products run chunk by chunk (CHUNK elements of every row, cache-sized):
     each pass reads the basis and the vector once, whatever it computes besides (the vector's
@@ -91,10 +92,15 @@ class Basis:
         if j >= self.rows:
             raise IndexError(f"basis has {self.rows} rows")
         b, i = divmod(j, self.BLOCK)
-        while len(self.blocks) <= b:
-            rows = min(self.BLOCK, self.rows - len(self.blocks) * self.BLOCK)
-            self.blocks.append(aligned_empty((rows, self.size), self.dtype))
+        while len(self.blocks) <= b:      # full blocks: one shape for the pool
+            self.blocks.append(borrow((self.BLOCK, self.size), self.dtype))
         return self.blocks[b][i]
+
+    def release(self) -> None:
+        """Give the blocks back to the thread's scratch pool (scratch.py); the basis is empty
+        afterwards."""
+        give_back(*self.blocks)
+        self.blocks, self.n = [], 0
 
     def append(self, w: np.ndarray, scale: float) -> None:
         np.multiply(w, scale, out=self.row(self.n))

@@ -36,7 +36,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .fftback import aligned_empty
+from .scratch import borrow, give_back
 from .kernel1d import SlabGreen
 from .zbasis import diag_galerkin, single_integrals
 
@@ -101,13 +101,18 @@ def z_kernels(sg: SlabGreen, dtype: type, normalised: bool = True,
 
 
 class ZWork:
-    """Scratch arrays of apply_z for nz cells × `size` harmonics (reused across applications)."""
+    """Scratch arrays of apply_z for nz cells × `size` harmonics (reused across applications;
+    borrowed from the thread's scratch pool, scratch.py, until release())."""
 
     def __init__(self, nz: int, size: int, dtype: np.dtype):
-        self.gam = aligned_empty((2, nz, size), dtype)
-        self.suf = aligned_empty((2, nz, size), dtype)
-        self.low = aligned_empty((2, nz, size), dtype)
-        self.tmp = aligned_empty((nz, size), dtype)
+        self.gam = borrow((2, nz, size), dtype)
+        self.suf = borrow((2, nz, size), dtype)
+        self.low = borrow((2, nz, size), dtype)
+        self.tmp = borrow((nz, size), dtype)
+
+    def release(self) -> None:
+        give_back(self.gam, self.suf, self.low, self.tmp)
+        del self.gam, self.suf, self.low, self.tmp
 
 
 def z_sums(zk: ZKernels, xh: np.ndarray, work: ZWork) -> tuple[np.ndarray, np.ndarray]:
