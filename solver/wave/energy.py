@@ -102,7 +102,7 @@ def slab_field_energy(op: LayerOperator, w_b_coef: complex, f: np.ndarray, from_
     fh = fh.reshape(sg.nb, nz, size)
     tab = sg.exp_table()
     work = ZWork(nz, size, np.complex128)
-    p, q = z_sums(z_kernels(sg, np.complex128, tab=tab), fh, work)
+    p, q = z_sums(z_kernels(sg, np.complex128), fh, work)
     amp = (sg.prefactor * h * single_integrals(1j * sg.kappa * h, 1)[0]).reshape(size)
     kappa = sg.kappa.reshape(size)
     u = np.empty((nz, size), dtype=complex)

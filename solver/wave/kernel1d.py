@@ -87,11 +87,14 @@ class SlabGreen:
         Computed as e^{iκh·8a}·e^{iκh·b} (j = 8a + b): 2 × 9 exponentials per harmonic instead
         of 2nz + 1; it differs from e^{iκ·(jh)} by ≤ 3e-14 relative, the rounding of the
         argument jh itself."""
-        n = 2 * self.nz + 1
-        step = 1j * self.kappa[..., None] * self.h_nm
-        coarse = np.exp(step * (8.0 * np.arange((n + 7) // 8)))
-        fine = np.exp(step * np.arange(8.0))
-        return (coarse[..., :, None] * fine[..., None, :]).reshape(self.kappa.shape + (-1,))[..., :n]
+        return np.moveaxis(self.exp_rows(2 * self.nz + 1), 0, -1)
+
+    def exp_rows(self, count: int) -> np.ndarray:
+        """e^{iκjh} for j = 0 … count−1 along a new first axis, C-contiguous (as exp_table)."""
+        step = 1j * self.kappa * self.h_nm
+        coarse = np.exp(step * (8.0 * np.arange((count + 7) // 8)).reshape((-1,) + (1,) * step.ndim))
+        fine = np.exp(step * np.arange(8.0).reshape((-1,) + (1,) * step.ndim))
+        return (coarse[:, None] * fine[None, :]).reshape((-1,) + step.shape)[:count]
 
 
 def harmonic_green(sg: SlabGreen, index: tuple[slice, ...]) -> SlabGreen:

@@ -67,37 +67,37 @@ class ZKernels:
     nb: int
 
 
-def z_kernels(sg: SlabGreen, dtype: type, normalised: bool = True,
-              tab: np.ndarray | None = None) -> ZKernels:
+def z_kernels(sg: SlabGreen, dtype: type, normalised: bool = True) -> ZKernels:
     """The recursion constants, computed in complex128 and stored in dtype.
 
     normalised False: the operator's inverse lateral FFT does not divide by nx·ny, so 1/(nx·ny)
-    is folded into scale, scale_ratio and diag here.  tab: sg.exp_table() if already computed.
+    is folded into scale, scale_ratio and diag here.
     """
     nz, nb, h = sg.nz, sg.nb, sg.h_nm
-    tab = sg.exp_table() if tab is None else tab
     size = sg.kappa.size
-    rtrb = sg.r_top * sg.r_bottom
-    x = 1j * sg.kappa * h
+    rows = sg.exp_rows(nz + 1).reshape(nz + 1, size)      # a^j, j = 0 … nz
+    step, edge = rows[1], rows[nz]
+    rtrb = (sg.r_top * sg.r_bottom).reshape(size)
+    x = 1j * sg.kappa.reshape(size) * h
     integ = single_integrals(x, nb)
-    ph = sg.prefactor * h
+    ph = sg.prefactor.reshape(size) * h
     lateral = 1.0 if normalised else 1.0 / size
     scale = ph * integ[0] * integ[0] * lateral
     ratio = integ[1] / integ[0] if nb > 1 else np.zeros_like(x)
-    diag = np.stack([ph * (diag_galerkin(p, p, x, np.ones_like(x), tab[..., 1])
-                           + rtrb * diag_galerkin(p, p, -x, tab[..., 2 * nz], tab[..., 2 * nz - 1]))
-                     * lateral for p in range(nb)])
-
-    def flat(a: np.ndarray) -> np.ndarray:
-        return np.ascontiguousarray(a.reshape(a.shape[:-2] + (size,)), dtype=dtype)
-
-    powers = np.empty((nz, size), dtype=dtype)
-    powers[...] = tab[..., :nz].reshape(size, nz).T
+    # e^{2iκH} = a^{2nz} and a^{2nz−1}: the wave bounced off both faces
+    diag = [ph * (diag_galerkin(p, p, x, np.ones_like(x), step)
+                  + rtrb * diag_galerkin(p, p, -x, edge * edge, edge * rows[nz - 1])) * lateral
+            for p in range(nb)]
     far_powers = np.empty((nz - 1, size), dtype=dtype)
-    far_powers[...] = (rtrb[..., None] * tab[..., nz:2 * nz - 1]).reshape(size, nz - 1).T
-    return ZKernels(flat(tab[..., 1]), powers, flat(tab[..., nz]), far_powers,
-                    flat(np.stack([sg.r_top, sg.r_bottom])), flat(integ[0]), flat(scale),
-                    flat(scale * ratio), flat(ratio), flat(diag), nz, nb)
+    np.multiply(rtrb * edge, rows[:nz - 1], out=far_powers, casting="same_kind")
+
+    def cast(a) -> np.ndarray:
+        return np.ascontiguousarray(a, dtype=dtype)
+
+    return ZKernels(cast(step), cast(rows[:nz]), cast(edge), far_powers,
+                    cast(np.stack([sg.r_top.reshape(size), sg.r_bottom.reshape(size)])),
+                    cast(integ[0]), cast(scale), cast(scale * ratio), cast(ratio),
+                    cast(np.stack(diag)), nz, nb)
 
 
 class ZWork:
