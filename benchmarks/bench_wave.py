@@ -5,7 +5,9 @@ Reference case (issue "The wave solver"): 2000×2000×1000 nm cell, 30 % of 300-
 
     python -m benchmarks.bench_wave                      # everything, ~5–10 min on 2 cores
     python -m benchmarks.bench_wave --quick              # the reference rows only
+    python -m benchmarks.bench_wave --table              # the table solves only (section 6)
     python -m benchmarks.bench_wave --baseline REV       # old solver from git revision REV
+    python -m benchmarks.bench_wave --table-baseline REV # section 6's old solver
 
 1. Reference solve, old (solver/ of --baseline, default 98de97b, the solver before the
    "six times faster" work) and new side by side, each in a fresh process
@@ -15,7 +17,12 @@ Reference case (issue "The wave solver"): 2000×2000×1000 nm cell, 30 % of 300-
    realistic sequences, shared background preparation across realizations, Krylov methods,
    fictitious loss, TM vs TE cost, oracle convergence tables, resolution knob (plot in
    out/bench/); the "tried and dropped" measurements (benchmarks/wave_tried.py: FFT libraries
-   where installed, batched right-hand sides).
+   where installed, FFT layouts).
+6. The default particle table's solves (`ink-tables build --ink Y7.5+B7.5 --particles
+   sphere:300`: 64×64×32, tol 1e-3, one FFT thread) timed the way a table worker runs them,
+   old (--table-baseline, default 96fb031: main before the "table speed" work) and new side by
+   side, fresh processes, alternating (benchmarks/wave_table_solves.py): CPU per solve,
+   applications, results old vs new, stage profile; GMRES vs BiCGStab on the same solves.
 """
 from __future__ import annotations
 
@@ -37,12 +44,14 @@ from solver.wave.validation import grating_errors, mie_relative_errors, slab_err
 from .baseline import ROOT, extract, run_python
 from .wave_checks import (cpu_time, energy_checks, loss_study, polarisation_cost, print_rows,
                           quiet_solve)
-from .wave_tried import batched_rhs, fft_libraries
+from .wave_table import table_methods, table_solves
+from .wave_tried import fft_libraries
 
 PERIOD, THICK, DIAM, FILL = (2000.0, 2000.0), 1000.0, 300.0, 0.30
 ETA_PIGMENT, ETA_BINDER = 1.4 + 0.2j, 1.558
 LAM, SIGMA, SEED = 500.0, math.radians(25.0), 1
 BASELINE = "98de97b"
+TABLE_BASELINE = "96fb031"
 OUT = Path("out/bench")
 TABLE_SIGMA_DEG = (0.0, 15.0, 30.0, 45.0, 60.0, 70.0, 80.0)
 TABLE_WAVELENGTHS = tuple(np.arange(380.0, 781.0, 20.0))
@@ -323,9 +332,15 @@ def plot(res_rows, res_rows0, tol_rows) -> None:
 def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     baseline = argv[argv.index("--baseline") + 1] if "--baseline" in argv else BASELINE
+    table_baseline = (argv[argv.index("--table-baseline") + 1] if "--table-baseline" in argv
+                      else TABLE_BASELINE)
     load = Path("/proc/loadavg")
     print("wave solver benchmark; load average at start:",
           load.read_text().split()[:3] if load.exists() else "unknown")
+    if "--table" in argv:
+        table_solves(table_baseline)
+        table_methods()
+        return 0
     reference_runs(baseline)
     if "--quick" in argv:
         return 0
@@ -341,7 +356,8 @@ def main(argv: list[str] | None = None) -> int:
     plot(res_rows, res_rows0, tol_rows)
     cell = reference_cell((64, 64, 32))
     fft_libraries(cell, LAM, SIGMA)
-    batched_rhs(cell, LAM, SIGMA)
+    table_solves(table_baseline)
+    table_methods()
     return 0
 
 

@@ -6,8 +6,8 @@ older revision extracted by bench_wave (it uses only the API both have: Cell, In
 bloch_vector, prepare, solve_prepared with their defaults).  Times are CPU seconds of this
 process (time.process_time, robust to other jobs on a shared machine) and wall seconds; the
 best of `repeats`.  The FFT floor is the CPU time of the transforms one solve performs
-(per application: a lateral 2-D FFT pair over (2, nx, ny, nz) and a z-FFT pair over
-(2, nx, ny, 2nz)), replayed here on the same shapes; the profile (cProfile with the CPU clock,
+(fft_floor: per application a lateral 2-D FFT pair, and a z-FFT pair in solvers before the
+z-recursions), replayed here on the same shapes; the profile (cProfile with the CPU clock,
 one extra solve) splits the solve into stages.
 """
 from __future__ import annotations
@@ -27,7 +27,9 @@ import scipy.fft as sfft
 
 def fft_floor(shape: tuple[int, int, int], workers: int, op=None, repeats: int = 20) -> float:
     """CPU seconds of the FFTs of one operator application (best of repeats), with the
-    operator's FFT backend where it has one (op.fft), else scipy.fft."""
+    operator's FFT backend where it has one (op.fft), else scipy.fft.  Solvers with z-FFTs
+    (before the z-recursions, backends with a `z` method): a lateral pair over (2, nx, ny, nz)
+    and a z pair over (2, nx, ny, 2nz); since: a lateral pair over the z-major (2, nz, nx, ny)."""
     nx, ny, nz = shape
     backend = getattr(op, "fft", None)
     if backend is None:
@@ -39,7 +41,7 @@ def fft_floor(shape: tuple[int, int, int], workers: int, op=None, repeats: int =
             sfft.fft(b, axis=-1, workers=workers, overwrite_x=True)
             sfft.ifft(b, axis=-1, workers=workers, overwrite_x=True)
             sfft.ifft2(a, axes=(1, 2), workers=workers, overwrite_x=True)
-    else:
+    elif hasattr(backend, "z"):
         from solver.wave.fftback import aligned_empty
         a = aligned_empty((2, nx, ny, nz), np.complex64)
         b = aligned_empty((2, nx, ny, 2 * nz), np.complex64)
@@ -50,6 +52,14 @@ def fft_floor(shape: tuple[int, int, int], workers: int, op=None, repeats: int =
             backend.lateral(a)
             backend.z(b)
             backend.z(b, inverse=True)
+            backend.lateral(a, inverse=True)
+    else:
+        from solver.wave.fftback import aligned_empty
+        a = aligned_empty((2, nz, nx, ny), np.complex64)
+        a[...] = 0
+
+        def run():
+            backend.lateral(a)
             backend.lateral(a, inverse=True)
     return best_cpu(run, repeats)
 
@@ -67,9 +77,12 @@ def best_cpu(fn, repeats: int = 20) -> float:
 
 STAGES = (  # (stage, how a profile entry is recognised: (file suffix or "", function name))
     ("FFT", ("", "c2c"), ("wave/fftback.py", "_fftw")),
-    ("z-kernel elementwise", ("wave/zkernels.py", "apply_z"), ("wave/operator.py", "convolve_z")),
+    ("z-kernel elementwise", ("wave/zkernels.py", "apply_z"), ("wave/zkernels.py", "z_sums"),
+     ("wave/operator.py", "convolve_z")),
     ("contrast · w, I − GV", ("wave/operator.py", "apply_system"),
-     ("wave/operator.py", "apply_scattering"), ("wave/operator.py", "apply_green")),
+     ("wave/operator.py", "apply_scattering"), ("wave/operator.py", "apply_green"),
+     ("wave/operator.py", "scatter_zmajor"), ("wave/operator.py", "system_zmajor"),
+     ("wave/operator.py", "_green_zmajor")),
     ("Krylov vector ops", ("wave/krylov.py", "*"), ("wave/vecops.py", "*"),
      ("multiarray.py", "vdot")),
 )

@@ -33,10 +33,12 @@ from __future__ import annotations
 import numpy as np
 import scipy.fft as sfft
 
-from .kernel1d import background_amplitudes, face_profiles
-from .operator import LayerOperator, convolve_z, kernel_spectra
+from .kernel1d import background_amplitudes, face_profiles, harmonic_green, point_self_terms
+from .operator import LayerOperator, to_zmajor
 from .orders import OrderSet
 from .vecops import dot
+from .zbasis import single_integrals
+from .zkernels import ZWork, z_kernels, z_sums
 
 #: Gauss–Legendre points per z-cell for ∫|u|²: the intra-cell field is smooth (exponentials
 #: plus a polynomial).  On a k = 1.1 slab at 60°, 32 cells per µm, the identity closes to
@@ -82,22 +84,43 @@ def closure(op: LayerOperator, r: np.ndarray, f: np.ndarray, big_r: float, big_t
 
 def slab_field_energy(op: LayerOperator, w_b_coef: complex, f: np.ndarray, from_below: bool,
                       n_gauss: int = GAUSS_POINTS) -> float:
-    """∫_slab |u|² dV (nm³) of the scheme's continuous field (unit incident amplitude)."""
+    """∫_slab |u|² dV (nm³) of the scheme's continuous field (unit incident amplitude), in
+    complex128.
+
+    The scattered field at z = k·h + s inside cell k is, per lateral harmonic, with the
+    z-recursion sums (P, Q) of the operator (zkernels.py) for the source moments f:
+    u = P·h·I_0·(e^{iκs}·P_k + e^{iκ(h−s)}·Q_k) + Σ_q d_q(s)·f_q,k, d_q the same-cell terms
+    (kernel1d.point_self_terms): the point kernels of kernel1d.circulant_blocks, regrouped
+    (docs/wave_solver.md, "Energy closure").  One recursion serves every quadrature point.
+    """
     nx, ny, nz = op.shape
-    h = op.green.h_nm
+    sg, size = op.green, nx * ny
+    h = sg.h_nm
     xg, wg = np.polynomial.legendre.leggauss(n_gauss)
-    fh = sfft.fft2(f, axes=(1, 2), workers=op.workers)
+    fz = to_zmajor(np.asarray(f, dtype=np.complex128))
+    fh = sfft.fft2(fz, axes=(-2, -1), workers=op.workers, overwrite_x=True)
+    fh = fh.reshape(sg.nb, nz, size)
+    tab = sg.exp_table()
+    work = ZWork(nz, size, np.complex128)
+    p, q = z_sums(z_kernels(sg, np.complex128), fh, work)
+    amp = (sg.prefactor * h * single_integrals(1j * sg.kappa * h, 1)[0]).reshape(size)
+    kappa = sg.kappa.reshape(size)
+    u = np.empty((nz, size), dtype=complex)
+    sg00 = harmonic_green(sg, (slice(0, 1), slice(0, 1)))
     total = 0.0
     for xq, wq in zip(xg, wg):
         s = 0.5 * h * (xq + 1)
-        ts, hs = kernel_spectra(op.green, s, op.dtype, op.workers)
-        u = convolve_z(op.workers, fh, ts, hs)      # lateral DFT of the scattered field
-        ptop, pbot = face_profiles(op.green, s)
+        np.multiply(amp * np.exp(1j * kappa * s), p, out=u)
+        u += (amp * np.exp(1j * kappa * (h - s))) * q
+        for moment, term in zip(fh, point_self_terms(sg, s, tab)):
+            u += term.reshape(size) * moment
+        ptop, pbot = face_profiles(sg00, s)
         prof = pbot if from_below else ptop
-        u[0, 0, 0] += nx * ny * w_b_coef * prof[0, 0, 0]
-        total += 0.5 * wq * h * float(np.sum(np.abs(u) ** 2))
+        u[:, 0] += size * w_b_coef * prof[0, 0, 0]        # the background wave (00 harmonic)
+        total += 0.5 * wq * h * float(np.vdot(u, u).real)
+    work.release()
     lx, ly = op.cell.period_nm
-    return total * lx * ly / (nx * ny) ** 2
+    return total * lx * ly / size ** 2
 
 
 def face_term(op: LayerOperator, refl: OrderSet, trans: OrderSet, from_below: bool) -> float:

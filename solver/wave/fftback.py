@@ -1,16 +1,17 @@
-"""In-place FFTs of the operator: lateral 2-D transforms over axes (1, 2) and z-transforms along
-the last axis, from scipy.fft (default) or FFTW (pyFFTW, optional).
+"""In-place FFTs of the operator: lateral 2-D transforms over the two last axes of its z-major
+arrays (nb, nz, nx, ny), from scipy.fft (default) or FFTW (pyFFTW, optional).
 
 scipy.fft (pocketfft) is always available, keeps complex64 in single precision and transforms in
 place with overwrite_x; its inverse transforms divide by n.  FFTW (`fft="fftw"`, needs
 `pip install pyfftw`, GPL) transforms the reference grid's arrays ≈ 2.8× faster (planned once
-per array layout and thread) and does not normalise: the operator folds 1/n
-into its kernels (zkernels.z_kernels, `scale`).  Arrays that the hot path transforms are
+per array layout and thread) and does not normalise: the operator folds 1/(nx·ny)
+into its z-constants (zkernels.z_kernels, `normalised`).  Arrays that the hot path transforms are
 allocated 64-byte aligned (`aligned_empty`) so that FFTW's SIMD plans apply; others get an
 FFTW_UNALIGNED plan.  Measurements: docs/wave_solver.md, "FFT library".
 """
 from __future__ import annotations
 
+import functools
 import importlib.util
 import os
 import threading
@@ -45,7 +46,9 @@ def aligned_empty(shape, dtype) -> np.ndarray:
     return raw[start:start + n].view(dt).reshape(shape)
 
 
+@functools.lru_cache(maxsize=None)
 def fftw_available() -> bool:
+    """Whether pyFFTW is installed (looked up once per process)."""
     return importlib.util.find_spec("pyfftw") is not None
 
 
@@ -63,18 +66,12 @@ class FFT:
         return (FFT, (self.name, self.workers, self.normalised))
 
     def lateral(self, a: np.ndarray, inverse: bool = False) -> np.ndarray:
-        """2-D DFT over axes (1, 2), in place; returns the result (a itself for FFTW)."""
+        """2-D DFT over the two last axes (contiguous: pocketfft's fastest layout), in place;
+        returns the result (a itself for FFTW, and for scipy.fft on C-contiguous arrays)."""
         if self.name == "scipy":
             f = sfft.ifft2 if inverse else sfft.fft2
-            return f(a, axes=(1, 2), workers=self.workers, overwrite_x=True)
-        return self._fftw(a, (1, 2), inverse)
-
-    def z(self, a: np.ndarray, inverse: bool = False) -> np.ndarray:
-        """DFT along the last axis, in place; returns the result."""
-        if self.name == "scipy":
-            f = sfft.ifft if inverse else sfft.fft
-            return f(a, axis=-1, workers=self.workers, overwrite_x=True)
-        return self._fftw(a, (a.ndim - 1,), inverse)
+            return f(a, axes=(-2, -1), workers=self.workers, overwrite_x=True)
+        return self._fftw(a, (a.ndim - 2, a.ndim - 1), inverse)
 
     def _fftw(self, a: np.ndarray, axes: tuple[int, ...], inverse: bool) -> np.ndarray:
         import pyfftw

@@ -27,7 +27,7 @@ length 2nz (circulant_blocks), applied by FFT (operator.py).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields, replace
 from typing import Iterator
 
 import numpy as np
@@ -87,11 +87,26 @@ class SlabGreen:
         Computed as e^{iκh·8a}·e^{iκh·b} (j = 8a + b): 2 × 9 exponentials per harmonic instead
         of 2nz + 1; it differs from e^{iκ·(jh)} by ≤ 3e-14 relative, the rounding of the
         argument jh itself."""
-        n = 2 * self.nz + 1
-        step = 1j * self.kappa[..., None] * self.h_nm
-        coarse = np.exp(step * (8.0 * np.arange((n + 7) // 8)))
-        fine = np.exp(step * np.arange(8.0))
-        return (coarse[..., :, None] * fine[..., None, :]).reshape(self.kappa.shape + (-1,))[..., :n]
+        return np.moveaxis(self.exp_rows(2 * self.nz + 1), 0, -1)
+
+    def exp_rows(self, count: int) -> np.ndarray:
+        """e^{iκjh} for j = 0 … count−1 along a new first axis, C-contiguous (as exp_table)."""
+        step = 1j * self.kappa * self.h_nm
+        coarse = np.exp(step * (8.0 * np.arange((count + 7) // 8)).reshape((-1,) + (1,) * step.ndim))
+        fine = np.exp(step * np.arange(8.0).reshape((-1,) + (1,) * step.ndim))
+        return (coarse[:, None] * fine[None, :]).reshape((-1,) + step.shape)[:count]
+
+
+def harmonic_green(sg: SlabGreen, index: tuple[slice, ...]) -> SlabGreen:
+    """The constants of the harmonics sg.kappa[index] alone (e.g. (slice(0, 1),) * 2: the 00
+    harmonic), faces included."""
+    def cut(obj, names):
+        return replace(obj, **{n: getattr(obj, n)[index] for n in names})
+
+    arrays = ("kappa", "k_above", "k_below", "r_top", "r_bottom", "denom", "y_above", "y_below")
+    faces = None if sg.faces is None else tuple(
+        cut(f, [fld.name for fld in fields(f)]) for f in sg.faces)
+    return replace(cut(sg, arrays), faces=faces)
 
 
 def slab_green(kappa: np.ndarray, k_above: np.ndarray, k_below: np.ndarray,
@@ -165,10 +180,8 @@ def circulant_blocks(sg: SlabGreen, offset_nm: float | None = None
                 yield p, q, toe, han
         return
     s = float(offset_nm)
-    if not 0.0 <= s <= h * (1 + 1e-12):
-        raise ValueError(f"offset_nm must lie in [0, h={h}], got {s}")
-    tau = min(s / h, 1.0)
     ep, em = np.exp(1j * sg.kappa * s)[..., None], np.exp(-1j * sg.kappa * s)[..., None]
+    self_terms = point_self_terms(sg, s, tab)
     for q in range(nb):
         toe = np.zeros(shape, dtype=complex)
         han = np.zeros(shape, dtype=complex)
@@ -176,16 +189,36 @@ def circulant_blocks(sg: SlabGreen, offset_nm: float | None = None
         sq = sign(q)
         toe[..., 1:nz] = w * ((sq * ep) * e_dm1 + (rtrb * em) * e_far0)            # k > l
         toe[..., nz + 1:] = (w * (em * e_d + (rtrb * sq * ep) * e_far))[..., ::-1]  # k < l
-        lq, rq = diag_point(q, tau, x)
-        lr, rr = diag_point_reflected(q, tau, x)
-        toe[..., 0] = ph[..., 0] * (lq + rq + rtrb[..., 0] * (
-            tab[..., 2 * nz] * em[..., 0] * lr + tab[..., 2 * nz - 1] * ep[..., 0] * rr))
+        toe[..., 0] = self_terms[q]
         han[..., :-1] = w * ((rt * ep) * e_sig + (rb * sq * em) * e_sig_far)
         yield 0, q, toe, han
 
 
-def face_profiles(sg: SlabGreen, offset_nm: float | None = None
-                  ) -> tuple[np.ndarray, np.ndarray]:
+def point_self_terms(sg: SlabGreen, offset_nm: float, tab: np.ndarray | None = None
+                     ) -> list[np.ndarray]:
+    """The k = l Toeplitz entries of the point kernels (circulant_blocks with offset_nm s):
+    for each source function q, the field at z = k·h + s of the source φ_q in the same cell
+    (direct wave and the wave bounced off both faces), per harmonic (nm)."""
+    nz, h = sg.nz, sg.h_nm
+    s = float(offset_nm)
+    if not 0.0 <= s <= h * (1 + 1e-12):
+        raise ValueError(f"offset_nm must lie in [0, h={h}], got {s}")
+    tab = sg.exp_table() if tab is None else tab
+    tau = min(s / h, 1.0)
+    x = 1j * sg.kappa * h
+    ep, em = np.exp(1j * sg.kappa * s), np.exp(-1j * sg.kappa * s)
+    ph, rtrb = sg.prefactor * h, sg.r_top * sg.r_bottom
+    out = []
+    for q in range(sg.nb):
+        lq, rq = diag_point(q, tau, x)
+        lr, rr = diag_point_reflected(q, tau, x)
+        out.append(ph * (lq + rq + rtrb * (tab[..., 2 * nz] * em * lr
+                                           + tab[..., 2 * nz - 1] * ep * rr)))
+    return out
+
+
+def face_profiles(sg: SlabGreen, offset_nm: float | None = None,
+                  tab: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Moments (offset None; shape (nb, ..., nz)) or point values at z = k·h + s (shape
     (1, ..., nz)) of the two face profiles
 
@@ -193,10 +226,11 @@ def face_profiles(sg: SlabGreen, offset_nm: float | None = None
 
     g(0, z) = i·p_top(z)/((κ + y_a)D) and g(H, z) = i·p_bot(z)/((κ + y_c)D); the background field
     of a unit wave from above (below) is 2y_a/((κ+y_a)D)·p_top (2y_c/((κ+y_c)D)·p_bot).
+    tab: sg.exp_table() if already computed.
     """
     nz, nb = sg.nz, sg.nb
     rt, rb = sg.r_top[..., None], sg.r_bottom[..., None]
-    tab = sg.exp_table()
+    tab = sg.exp_table() if tab is None else tab
     k = np.arange(nz)
     if offset_nm is None:
         integ = single_integrals(1j * sg.kappa * sg.h_nm, nb)

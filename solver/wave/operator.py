@@ -4,7 +4,12 @@ Field u = e^{i(kx0·x + ky0·y)}·w(x, y, z) with w periodic; unknowns: w at the
 centres × Legendre moments in every z-cell (shape (nb, nx, ny, nz); nb = z_order + 1; moment
 0 is the cell average).  Lateral: pseudo-spectral (DFT, exact Bloch harmonics
 kx = kx0 + 2πm/Lx, ky = ky0 + 2πn/Ly).  z: Galerkin with the exact layered-background Green's
-function (kernel1d.py), applied by FFT along z in its reduced form (zkernels.py).
+function (kernel1d.py), applied by recursions along z (zkernels.py).
+
+Layouts: the public arrays (unknowns, solutions, face profiles) are (nb, nx, ny, nz); the
+iteration runs on the z-major layout (nb, nz, nx, ny) (`to_zmajor`, `from_zmajor`), where the
+lateral FFTs transform contiguous axes and a z-cell is one contiguous row of harmonics
+(`scatter_zmajor`, `system_zmajor`; docs/wave_solver.md, "Performance").
 
     w − G·(V·w) = w_b,      V = k0²(ε − ε_b)   (1/nm²),   w_b = background (Airy) field.
 
@@ -24,8 +29,8 @@ import scipy.fft as sfft
 from .faces import (DEFAULT_TM_FACES, TMFaces, face_coefficients, harmonic_forms,
                     parse_tm_faces)
 from .fftback import DEFAULT_FFT, FFT, aligned_empty, default_workers, get_fft
-from .kernel1d import (SlabGreen, circulant_blocks, face_profiles, slab_green,
-                       vertical_wavenumber)
+from .scratch import borrow, give_back
+from .kernel1d import SlabGreen, face_profiles, slab_green, vertical_wavenumber
 from .types import Cell
 from .zkernels import ZKernels, ZWork, apply_z, z_kernels
 
@@ -36,6 +41,7 @@ POLARISATIONS = ("te", "tm")
 
 __all__ = ["Background", "LayerOperator", "prepare_background", "prepare", "with_contrast",
            "choose_background", "apply_system", "apply_scattering", "apply_green", "Workspace",
+           "scatter_zmajor", "system_zmajor", "to_zmajor", "from_zmajor",
            "default_workers", "DEFAULT_MIN_LOSS", "POLARISATIONS", "DEFAULT_TM_FACES"]
 
 
@@ -48,9 +54,10 @@ class Background:
     eps_nominal: ε_b as asked (before min_loss); polarisation 'te' | 'tm'; eps_face: ε_f of the
     TM face conditions (None for TE); tm_faces: the TM face forms per class of harmonic
     (faces.TMFaces; None for TE).  Arrays of shape (nx, ny) are per lateral harmonic in FFT
-    order (order indices m, n).  zk: reduced z-kernels; ptop, pbot: moments of the face
-    profiles (kernel1d.face_profiles), (nb, nx, ny, nz) in dtype; fft: the FFT backend
-    (fftback.py; its normalisation is folded into zk).
+    order (order indices m, n).  zk: the z-recursion constants (zkernels.py); ptop, pbot
+    (computed on demand; the solver needs neither): moments of the face profiles
+    (kernel1d.face_profiles), (nb, nx, ny, nz) in dtype; fft: the FFT backend (fftback.py;
+    its normalisation is folded into zk).
     """
 
     shape: tuple[int, int, int]
@@ -71,8 +78,6 @@ class Background:
     ky: np.ndarray
     green: SlabGreen
     zk: ZKernels
-    ptop: np.ndarray
-    pbot: np.ndarray
     dtype: np.dtype
     workers: int
     fft: FFT
@@ -88,8 +93,22 @@ class Background:
         return self.green.nb
 
     @property
+    def ptop(self) -> np.ndarray:
+        return face_profiles(self.green)[0].astype(self.dtype)
+
+    @property
+    def pbot(self) -> np.ndarray:
+        return face_profiles(self.green)[1].astype(self.dtype)
+
+    @property
     def unknown_shape(self) -> tuple[int, int, int, int]:
         return (self.nb,) + self.shape
+
+    @property
+    def zmajor_shape(self) -> tuple[int, int, int, int]:
+        """(nb, nz, nx, ny): the layout of the iteration (module doc)."""
+        nx, ny, nz = self.shape
+        return (self.nb, nz, nx, ny)
 
     @property
     def lateral_phase(self) -> np.ndarray:
@@ -101,15 +120,17 @@ class Background:
 
 @dataclass(frozen=True, eq=False)
 class LayerOperator:
-    """A Background plus one cell's contrast = k0²(ε − ε_b) in 1/nm², shape (nx, ny, nz)."""
+    """A Background plus one cell's contrast = k0²(ε − ε_b) in 1/nm², shape (nx, ny, nz), and
+    the same in the z-major layout (nz, nx, ny)."""
 
     background: Background
     cell: Cell
     contrast: np.ndarray
+    contrast_zmajor: np.ndarray
 
     def __getattr__(self, name: str):
         # the background's fields (green, zk, ptop, pbot, kx, ky, m, n, k0, nb, …) read through
-        if name in ("background", "cell", "contrast"):
+        if name in ("background", "cell", "contrast", "contrast_zmajor"):
             raise AttributeError(name)
         return getattr(self.background, name)
 
@@ -207,13 +228,10 @@ def prepare_background(shape: tuple[int, int, int], period_nm: tuple[float, floa
     sg = slab_green(kap, ka, kc, float(thickness_nm), nz, z_order + 1, faces=face_coefs)
     w = default_workers() if workers is None else int(workers)
     backend = get_fft(fft, w)
-    zk = z_kernels(sg, dt, lambda a: sfft.fft(a, axis=-1, workers=w, overwrite_x=True),
-                   normalised=backend.normalised)
-    ptop, pbot = face_profiles(sg)
+    zk = z_kernels(sg, dt, normalised=backend.normalised)
     return Background((nx, ny, nz), (lx, ly), float(thickness_nm), ea, ec,
                       float(wavelength_nm), float(kx0), float(ky0), eb, nominal, polarisation, ef,
-                      m, n, kx, ky, sg, zk, ptop.astype(dt), pbot.astype(dt), dt, w, backend,
-                      faces)
+                      m, n, kx, ky, sg, zk, dt, w, backend, faces)
 
 
 def with_contrast(bg: Background, cell: Cell) -> LayerOperator:
@@ -230,7 +248,7 @@ def with_contrast(bg: Background, cell: Cell) -> LayerOperator:
     eps = np.asarray(cell.eps)
     contrast = np.empty(eps.shape, dtype=bg.dtype)
     np.multiply(bg.k0 ** 2, eps - bg.eps_background, out=contrast)
-    return LayerOperator(bg, cell, contrast)
+    return LayerOperator(bg, cell, contrast, to_zmajor(contrast))
 
 
 def prepare(cell: Cell, wavelength_nm: float, kx0: float, ky0: float, *,
@@ -262,77 +280,89 @@ def prepare(cell: Cell, wavelength_nm: float, kx0: float, ky0: float, *,
     return with_contrast(bg, cell)
 
 
+def to_zmajor(a: np.ndarray) -> np.ndarray:
+    """(…, nx, ny, nz) → a new C-contiguous, aligned array (…, nz, nx, ny)."""
+    out = aligned_empty(a.shape[:-3] + (a.shape[-1],) + a.shape[-3:-1], a.dtype)
+    np.copyto(out, np.moveaxis(a, -1, -3))
+    return out
+
+
+def from_zmajor(a: np.ndarray) -> np.ndarray:
+    """(…, nz, nx, ny) → a new C-contiguous array (…, nx, ny, nz)."""
+    return np.ascontiguousarray(np.moveaxis(a, -3, -1))
+
+
 class Workspace:
-    """Scratch arrays of one solve, reused by every operator application (one per thread)."""
+    """Scratch arrays of one solve, reused by every operator application (one per thread),
+    borrowed from the thread's scratch pool (scratch.py) until release()."""
 
     def __init__(self, op: LayerOperator | Background):
         nx, ny, nz = op.shape
-        self.f = aligned_empty(op.unknown_shape, op.dtype)
-        self.z = ZWork((nx, ny), nz, op.dtype)
+        self.f = borrow(op.zmajor_shape, op.dtype)
+        self.z = ZWork(nz, nx * ny, op.dtype)
+
+    def release(self) -> None:
+        give_back(self.f)
+        self.z.release()
+        del self.f, self.z
+
+
+def _green_zmajor(op: LayerOperator, f: np.ndarray, ws: Workspace) -> np.ndarray:
+    """Galerkin moments of G·f for z-major source moments f (nb, nz, nx, ny); f is
+    overwritten with the result (returned; f itself unless the FFT library copied)."""
+    nb, nz, nx, ny = f.shape
+    fh = op.fft.lateral(f)
+    apply_z(op.zk, fh.reshape(nb, nz, nx * ny), ws.z)
+    return op.fft.lateral(fh, inverse=True)
+
+
+def scatter_zmajor(op: LayerOperator, w: np.ndarray, ws: Workspace,
+                   out: np.ndarray | None = None) -> np.ndarray:
+    """G V·w for z-major w (nb, nz, nx, ny): the Born-series map without the source, into
+    out (C-contiguous) or a new array."""
+    if out is None:
+        out = aligned_empty(w.shape, op.dtype)
+    g = _green_zmajor(op, np.multiply(op.contrast_zmajor, w, out=out), ws)
+    if g.ctypes.data != out.ctypes.data:          # the FFTs transform in place (fftback)
+        np.copyto(out, g)
+    return out
+
+
+def system_zmajor(op: LayerOperator, w: np.ndarray, ws: Workspace,
+                  out: np.ndarray | None = None) -> np.ndarray:
+    """(I − G V)·w for z-major w: one operator application (into out, or a new array)."""
+    g = _green_zmajor(op, np.multiply(op.contrast_zmajor, w, out=ws.f), ws)
+    return np.subtract(w, g, out=out)
 
 
 def apply_green(op: LayerOperator, f: np.ndarray, ws: Workspace | None = None) -> np.ndarray:
     """Galerkin moments of G·f for source moments f (nb, nx, ny, nz) at the nodes.  f is
     overwritten: it holds the result, which is returned."""
     ws = Workspace(op) if ws is None else ws
-    fft = op.fft
-    fh = fft.lateral(f)
-    apply_z(op.zk, fh, ws.z, fft.z, lambda a: fft.z(a, inverse=True))
-    return fft.lateral(fh, inverse=True)
+    np.copyto(ws.f, np.moveaxis(f, -1, -3))
+    f[...] = np.moveaxis(_green_zmajor(op, ws.f, ws), -3, -1)
+    return f
 
 
 def apply_scattering(op: LayerOperator, w: np.ndarray, ws: Workspace | None = None,
                      out: np.ndarray | None = None) -> np.ndarray:
-    """G V·w (the Born-series map without the source), into out or a new array."""
+    """G V·w (the Born-series map without the source) for w (nb, nx, ny, nz), into out or a
+    new array."""
+    ws = Workspace(op) if ws is None else ws
+    g = scatter_zmajor(op, to_zmajor(w), ws)
     if out is None:
-        out = aligned_empty(w.shape, op.dtype)
-    g = apply_green(op, np.multiply(op.contrast, w, out=out), ws)
-    if g.ctypes.data != out.ctypes.data:          # the FFTs transform in place (fftback)
-        np.copyto(out, g)
+        return from_zmajor(g)
+    np.copyto(out, np.moveaxis(g, -3, -1))
     return out
 
 
 def apply_system(op: LayerOperator, w: np.ndarray, ws: Workspace | None = None,
                  out: np.ndarray | None = None) -> np.ndarray:
-    """(I − G V)·w: one operator application (into out, or a new array)."""
+    """(I − G V)·w for w (nb, nx, ny, nz): one operator application (into out, or a new
+    array)."""
     ws = Workspace(op) if ws is None else ws
-    g = apply_green(op, np.multiply(op.contrast, w, out=ws.f), ws)
-    return np.subtract(w, g, out=out)
-
-
-def kernel_spectra(sg: SlabGreen, offset_nm: float | None, dtype: type, workers: int
-                   ) -> tuple[np.ndarray, np.ndarray]:
-    """FFTs (length 2nz) of the unreduced circulant kernels (kernel1d.circulant_blocks),
-    shape (P, nb, nx, ny, 2nz), built one block at a time in complex128 and stored in dtype.
-    Used for the field at points inside the z-cells (energy.py)."""
-    npt = sg.nb if offset_nm is None else 1
-    shape = (npt, sg.nb) + sg.kappa.shape + (2 * sg.nz,)
-    toe_spec, han_spec = np.empty(shape, dtype=dtype), np.empty(shape, dtype=dtype)
-    for p, q, toe, han in circulant_blocks(sg, offset_nm):
-        toe_spec[p, q] = sfft.fft(toe, axis=-1, workers=workers, overwrite_x=True)
-        han_spec[p, q] = sfft.fft(han, axis=-1, workers=workers, overwrite_x=True)
-    return toe_spec, han_spec
-
-
-def convolve_z(workers: int, fhat: np.ndarray, toe_spec: np.ndarray,
-               han_spec: np.ndarray) -> np.ndarray:
-    """Apply unreduced Toeplitz+Hankel z-kernels (P, nb, ..., 2nz) to lateral-DFT moments
-    (nb, ..., nz): circular convolution T̂[q]·X[q] plus the Hankel correlation Ĥ[q]·X[−q]."""
-    nz = fhat.shape[-1]
-    xs = sfft.fft(fhat, n=2 * nz, axis=-1, workers=workers)
-    xrev = xs[..., :0:-1]                       # X[−q] for q = 1 … 2nz−1
-    npt, nb = toe_spec.shape[:2]
-    ys = np.empty((npt,) + xs.shape[1:], dtype=np.result_type(xs, toe_spec))
-    tmp = np.empty(xs.shape[1:], dtype=ys.dtype)
-    for p in range(npt):
-        acc = ys[p]
-        for q in range(nb):
-            if q == 0:
-                np.multiply(toe_spec[p, q], xs[q], out=acc)
-            else:
-                np.multiply(toe_spec[p, q], xs[q], out=tmp)
-                acc += tmp
-            np.multiply(han_spec[p, q, ..., 1:], xrev[q], out=tmp[..., 1:])
-            tmp[..., 0] = han_spec[p, q, ..., 0] * xs[q, ..., 0]
-            acc += tmp
-    return sfft.ifft(ys, axis=-1, workers=workers, overwrite_x=True)[..., :nz]
+    g = system_zmajor(op, to_zmajor(w), ws)
+    if out is None:
+        return from_zmajor(g)
+    np.copyto(out, np.moveaxis(g, -3, -1))
+    return out

@@ -14,7 +14,8 @@ import numpy as np
 import scipy.fft as sfft
 
 from .kernel1d import background_amplitudes, face_weights
-from .operator import LayerOperator
+from .operator import LayerOperator, to_zmajor
+from .zkernels import face_sums
 
 
 @dataclass(frozen=True, eq=False)
@@ -58,15 +59,19 @@ class OrderSet:
         return float(self.power[self.index(m, n)])
 
 
-def face_amplitudes(op: LayerOperator, f: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Scattered-field harmonics at z = 0 and z = H for the node source f = V·w (moments)."""
-    nx, ny, _ = op.shape
-    fh = sfft.fft2(f, axes=(1, 2), workers=op.workers)
+def face_amplitudes(op: LayerOperator, f: np.ndarray, zmajor: bool = False
+                    ) -> tuple[np.ndarray, np.ndarray]:
+    """Scattered-field harmonics at z = 0 and z = H for the node source f = V·w (moments
+    (nb, nx, ny, nz), or z-major (nb, nz, nx, ny) with zmajor=True, operator.py): the face
+    weights times the face profiles' moments against the lateral DFT of f
+    (zkernels.face_sums)."""
+    nx, ny, nz = op.shape
+    fz = f if zmajor else to_zmajor(f)
+    fh = sfft.fft2(fz, axes=(-2, -1), workers=op.workers, overwrite_x=not zmajor)
+    sum_top, sum_bot = face_sums(op.zk, fh.reshape(op.nb, nz, nx * ny))
     ctop, cbot = face_weights(op.green)
     scale = op.lateral_phase / (nx * ny)
-    top = ctop * scale * np.einsum("qijk,qijk->ij", op.ptop, fh)
-    bot = cbot * scale * np.einsum("qijk,qijk->ij", op.pbot, fh)
-    return top, bot
+    return ctop * scale * sum_top.reshape(nx, ny), cbot * scale * sum_bot.reshape(nx, ny)
 
 
 def _order_set(op: LayerOperator, amp: np.ndarray, kz: np.ndarray, kz_inc: float,
@@ -88,16 +93,17 @@ def _order_set(op: LayerOperator, amp: np.ndarray, kz: np.ndarray, kz_inc: float
     return OrderSet(*flat)
 
 
-def diffraction_orders(op: LayerOperator, f: np.ndarray, from_below: bool
+def diffraction_orders(op: LayerOperator, f: np.ndarray, from_below: bool, zmajor: bool = False
                        ) -> tuple[OrderSet, OrderSet, float]:
-    """(reflected, transmitted, kz_inc) for incidence from above (below).
+    """(reflected, transmitted, kz_inc) for incidence from above (below), for the source
+    moments f = V·w (zmajor: in the z-major layout, face_amplitudes).
 
     Reflected orders leave through the face of entry, transmitted through the other face;
     the 00 orders include the background's Airy reflection/transmission.  TM powers are
     Re(ψ)|a|²/Re(ψ_inc) with the faces' flux coefficients (faces.py; for H_y faces on both
     sides: ε_in/ε_exit·(k_z/k_z,inc)|a|², the flux of a TM wave being ∝ Re(k_z/ε)·|H|²).
     """
-    top, bot = face_amplitudes(op, f)
+    top, bot = face_amplitudes(op, f, zmajor)
     _, refl_b, trans_b = background_amplitudes(op.green, from_below)
     g = op.green
     k_in, k_out = (g.k_below, g.k_above) if from_below else (g.k_above, g.k_below)

@@ -11,11 +11,11 @@ import numpy as np
 from .faces import DEFAULT_TM_FACES, TMFaces, preset_name
 from .energy import absorption, closure, midpoint_absorption
 from .fftback import DEFAULT_FFT
-from .kernel1d import background_amplitudes
+from .kernel1d import background_amplitudes, face_profiles, harmonic_green
 from .krylov import (Callback, ConvergenceError, ConvergenceWarning, KrylovOutcome,
                      WaveSolverError, bicgstab, born, gmres)
-from .operator import (DEFAULT_MIN_LOSS, Background, LayerOperator, Workspace,
-                       apply_scattering, apply_system, prepare)
+from .operator import (DEFAULT_MIN_LOSS, Background, LayerOperator, Workspace, from_zmajor,
+                       prepare, scatter_zmajor, system_zmajor, to_zmajor)
 from .orders import OrderSet, diffraction_orders
 from .types import Cell, Incidence, bloch_vector
 from .vecops import one_blas_thread
@@ -96,17 +96,23 @@ def _gmres_restart(b: np.ndarray) -> int:
 
 def _run(op: LayerOperator, b: np.ndarray, method: str, tol: float, maxiter: int,
          restart: int | None, x0: np.ndarray | None, callback: Callback) -> KrylovOutcome:
+    """The iteration on the z-major layout (operator.py) for the z-major right-hand side b;
+    x0 is in the public layout (nb, nx, ny, nz), the returned solution and residual are
+    z-major."""
     if method == "auto":  # GMRES unless its basis would not fit in memory (docs/wave_solver.md)
         method = "gmres" if (restart or _gmres_restart(b)) >= 10 else "bicgstab"
     ws = Workspace(op)
-    kw = dict(tol=tol, maxiter=maxiter, callback=callback, x0=x0)
-    with one_blas_thread():
+    kw = dict(tol=tol, maxiter=maxiter, callback=callback,
+              x0=None if x0 is None else to_zmajor(np.asarray(x0, dtype=op.dtype)))
+    try:
         if method == "gmres":
             m = max(1, restart or _gmres_restart(b))
-            return gmres(lambda x, out: apply_scattering(op, x, ws, out), b, restart=m, **kw)
+            return gmres(lambda x, o: scatter_zmajor(op, x, ws, o), b, restart=m, **kw)
         if method == "bicgstab":
-            return bicgstab(lambda x, out: apply_system(op, x, ws, out), b, **kw)
-        return born(lambda x, out: apply_scattering(op, x, ws, out), b, **kw)
+            return bicgstab(lambda x, o: system_zmajor(op, x, ws, o), b, **kw)
+        return born(lambda x, o: scatter_zmajor(op, x, ws, o), b, **kw)
+    finally:
+        ws.release()
 
 
 def _check_energy(res: DiffractionResult, bound: float) -> str | None:
@@ -156,26 +162,28 @@ def solve_prepared(op: LayerOperator, from_below: bool = False, *, tol: float = 
                          f"previous result's `solution` on the same grid), got {np.shape(x0)}")
     t0 = time.perf_counter()
     nx, ny, nz = op.shape
-    coef, _, _ = background_amplitudes(op.green, from_below)
-    prof = op.pbot if from_below else op.ptop
-    b = np.broadcast_to((coef[0, 0] * prof[:, 0, 0])[:, None, None, :].astype(op.dtype),
-                        op.unknown_shape).copy()
-    out = _run(op, b, method, tol, maxiter, restart, x0, callback)
-    w = out.x
-    f = op.contrast * w
-    refl, trans, kz_inc = diffraction_orders(op, f, from_below)
-    big_r, big_t = refl.total, trans.total
-    a_mid = midpoint_absorption(op, w, from_below, kz_inc)
-    if exact_energy or (out.residual_vector is None and out.converged):
-        a_exact = absorption(op, w, f, from_below, kz_inc, refl, trans)
-        check = "quadrature"
-    elif out.residual_vector is None:
-        # a truncated (unconverged) Born series is not meant to conserve energy: the cheap
-        # midpoint absorption (O(h²)) reports it; exact_energy=True measures it by quadrature
-        a_exact, check = a_mid, "midpoint"
-    else:
-        a_exact, _ = closure(op, out.residual_vector, f, big_r, big_t, from_below, kz_inc)
-        check = "residual"
+    green00 = harmonic_green(op.green, (slice(0, 1), slice(0, 1)))   # b: the 00 harmonic
+    coef, _, _ = background_amplitudes(green00, from_below)
+    prof = face_profiles(green00)[1 if from_below else 0]
+    b = np.broadcast_to((coef[0, 0] * prof[:, 0, 0])[:, :, None, None].astype(op.dtype),
+                        op.zmajor_shape).copy()
+    with one_blas_thread():     # vector work on one BLAS thread (vecops.py), not only Krylov's
+        out = _run(op, b, method, tol, maxiter, restart, x0, callback)
+        f_z = op.contrast_zmajor * out.x                          # z-major, as out.x
+        w = from_zmajor(out.x)
+        refl, trans, kz_inc = diffraction_orders(op, f_z, from_below, zmajor=True)
+        big_r, big_t = refl.total, trans.total
+        a_mid = midpoint_absorption(op, w, from_below, kz_inc)
+        if exact_energy or (out.residual_vector is None and out.converged):
+            a_exact = absorption(op, w, from_zmajor(f_z), from_below, kz_inc, refl, trans)
+            check = "quadrature"
+        elif out.residual_vector is None:
+            # a truncated (unconverged) Born series is not meant to conserve energy: the cheap
+            # midpoint absorption (O(h²)) reports it; exact_energy=True measures it by quadrature
+            a_exact, check = a_mid, "midpoint"
+        else:
+            a_exact, _ = closure(op, out.residual_vector, f_z, big_r, big_t, from_below, kz_inc)
+            check = "residual"
     vals = (big_r, big_t, a_exact, a_mid, out.true_residual)
     if not all(math.isfinite(v) for v in vals) or not np.all(np.isfinite(refl.amplitude)) \
             or not np.all(np.isfinite(trans.amplitude)):

@@ -19,7 +19,7 @@ from typing import Iterator
 
 import numpy as np
 
-from .fftback import aligned_empty
+from .scratch import borrow, give_back
 
 #: elements per BLAS call in inner products (partial sums in complex128 across chunks)
 CHUNK = 32768
@@ -71,7 +71,13 @@ def norm(v: np.ndarray) -> float:
 
 class Basis:
     """Krylov basis as rows of 2-D blocks of BLOCK rows, allocated as the iteration reaches
-    them (memory follows the iterations taken, also as counted by tracemalloc)."""
+    them (memory follows the iterations taken, also as counted by tracemalloc), borrowed from
+    the thread's scratch pool (scratch.py) and given back by release().
+
+    The Gram–Schmidt products run chunk by chunk (CHUNK elements of every row, cache-sized):
+    each pass reads the basis and the vector once, whatever it computes besides (the vector's
+    norm with the projection, the scaling with the subtraction, the solution and the residual
+    together); products are summed in complex128 across chunks."""
 
     BLOCK = 16
 
@@ -79,16 +85,22 @@ class Basis:
         self.rows, self.size, self.dtype = rows, size, np.dtype(dtype)
         self.blocks: list[np.ndarray] = []
         self.n = 0
+        self._buf = np.empty(min(CHUNK, size), dtype=self.dtype)
 
     def row(self, j: int) -> np.ndarray:
         """Row j (allocating its block when first reached)."""
         if j >= self.rows:
             raise IndexError(f"basis has {self.rows} rows")
         b, i = divmod(j, self.BLOCK)
-        while len(self.blocks) <= b:
-            rows = min(self.BLOCK, self.rows - len(self.blocks) * self.BLOCK)
-            self.blocks.append(aligned_empty((rows, self.size), self.dtype))
+        while len(self.blocks) <= b:      # full blocks: one shape for the pool
+            self.blocks.append(borrow((self.BLOCK, self.size), self.dtype))
         return self.blocks[b][i]
+
+    def release(self) -> None:
+        """Give the blocks back to the thread's scratch pool (scratch.py); the basis is empty
+        afterwards."""
+        give_back(*self.blocks)
+        self.blocks, self.n = [], 0
 
     def append(self, w: np.ndarray, scale: float) -> None:
         np.multiply(w, scale, out=self.row(self.n))
@@ -101,18 +113,45 @@ class Basis:
                 return
             yield b * self.BLOCK, block[:k]
 
-    def project(self, w: np.ndarray, n: int) -> np.ndarray:
-        """Coefficients ⟨v_i, w⟩ for the first n rows (complex128)."""
+    def project(self, w: np.ndarray, n: int) -> tuple[np.ndarray, float]:
+        """(⟨v_i, w⟩ for the first n rows (complex128), ‖w‖²), in one pass."""
         h = np.zeros(n, dtype=complex)
-        wc = np.conj(w)
-        for start, block in self._spans(n):
-            k = block.shape[0]
-            for i in range(0, w.size, CHUNK):
-                h[start:start + k] += block[:, i:i + CHUNK] @ wc[i:i + CHUNK]
-        return h.conj()
+        norm2 = 0.0
+        spans = list(self._spans(n))
+        for i in range(0, w.size, CHUNK):
+            wc = np.conjugate(w[i:i + CHUNK], out=self._buf[:min(CHUNK, w.size - i)])
+            norm2 += float(np.vdot(wc, wc).real)
+            for start, block in spans:
+                h[start:start + block.shape[0]] += block[:, i:i + CHUNK] @ wc
+        return h.conj(), norm2
 
-    def subtract(self, w: np.ndarray, coef: np.ndarray, n: int) -> None:
-        """w −= Σ_i coef_i v_i over the first n rows (in place)."""
+    def subtract(self, w: np.ndarray, coef: np.ndarray, n: int, scale: float = 1.0) -> None:
+        """w ← (w − Σ_i coef_i v_i)·scale over the first n rows (in place, one pass)."""
         c = coef[:n].astype(self.dtype)
-        for start, block in self._spans(n):
-            w -= c[start:start + block.shape[0]] @ block
+        spans = list(self._spans(n))
+        for i in range(0, w.size, CHUNK):
+            part = w[i:i + CHUNK]
+            for start, block in spans:
+                part -= c[start:start + block.shape[0]] @ block[:, i:i + CHUNK]
+            if scale != 1.0:
+                part *= scale
+
+    def combine(self, x: np.ndarray, y: np.ndarray, z: np.ndarray) -> tuple[np.ndarray, float]:
+        """x += Σ_i y_i v_i (in place) and r = Σ_i z_i v_i (a new array) in one pass over the
+        first len(z) ≥ len(y) rows; returns (r, ‖r‖²)."""
+        n = len(z)
+        coef = np.zeros((2, n), dtype=self.dtype)
+        coef[0, :len(y)] = y
+        coef[1] = z
+        r = np.empty_like(x)
+        norm2 = 0.0
+        spans = list(self._spans(n))
+        for i in range(0, x.size, CHUNK):
+            part = r[i:i + CHUNK]
+            part[...] = 0
+            for start, block in spans:
+                both = coef[:, start:start + block.shape[0]] @ block[:, i:i + CHUNK]
+                x[i:i + CHUNK] += both[0]
+                part += both[1]
+            norm2 += float(np.vdot(part, part).real)
+        return r, norm2

@@ -1,0 +1,61 @@
+"""Scratch arrays reused from one solve to the next on the same thread.
+
+A solve's large scratch arrays (the Krylov basis blocks, the operator's workspace) are touched
+for the first time in every solve when they are allocated anew: the kernel maps and zeroes their
+pages, which took 8–10 ms of system time in a 75-ms solve at 64×64×32 (3600 page faults per
+solve; docs/wave_solver.md, "Performance").  `borrow` hands out an aligned array of a given
+shape and dtype (contents undefined), taken from this thread's pool when one was given back;
+`give_back` returns arrays to the pool, which keeps them while it holds at most POOL_BYTES;
+`release` empties it.  Arrays must not be used after they are given back.
+"""
+from __future__ import annotations
+
+import threading
+
+import numpy as np
+
+from .fftback import aligned_empty
+
+#: most bytes of scratch arrays a thread keeps between solves (64×64×32: one basis block of 16
+#: rows is 34 MB, the workspace 9 MB)
+POOL_BYTES = 256 * 2 ** 20
+
+
+class _Pool(threading.local):
+    def __init__(self):
+        self.free: dict[tuple, list[np.ndarray]] = {}
+        self.nbytes = 0
+
+
+_POOL = _Pool()
+
+
+def borrow(shape, dtype) -> np.ndarray:
+    """An aligned array of `shape` and `dtype` with undefined contents."""
+    key = (tuple(int(s) for s in np.atleast_1d(shape)), np.dtype(dtype).str)
+    stack = _POOL.free.get(key)
+    if stack:
+        a = stack.pop()
+        _POOL.nbytes -= a.nbytes
+        return a
+    return aligned_empty(key[0], dtype)
+
+
+def give_back(*arrays: np.ndarray) -> None:
+    """Return borrowed arrays to this thread's pool (kept while it stays under POOL_BYTES)."""
+    for a in arrays:
+        if _POOL.nbytes + a.nbytes > POOL_BYTES:
+            continue
+        _POOL.free.setdefault((a.shape, a.dtype.str), []).append(a)
+        _POOL.nbytes += a.nbytes
+
+
+def release() -> None:
+    """Drop this thread's pooled arrays."""
+    _POOL.free.clear()
+    _POOL.nbytes = 0
+
+
+def pooled_bytes() -> int:
+    """Bytes held by this thread's pool."""
+    return _POOL.nbytes
