@@ -94,7 +94,7 @@ def scene_wording(message: str) -> str:
     from .source import REQUEST_PARAMS
 
     parameter = {OPTION[arg]: name for name, arg in REQUEST_PARAMS.items() if arg in OPTION}
-    parameter.update({"--cache": "cache", "--workers": "workers"})
+    parameter.update({"--cache": "cache", "--workers": "workers", "--force": "force"})
     message = re.sub(r"(?<![\w-])(--[a-z][\w-]*)",
                      lambda m: f"parameter '{parameter[m.group(1)]}'" if m.group(1) in parameter else m.group(1),
                      message)

@@ -117,9 +117,17 @@ def load_table(props) -> InkLUT:
             raise
         except ValueError as exc:       # RequestError, InkSpecError, ParticleSpecError
             raise TableError(f"ink BSDF: {exc}") from None
+        from solver.table.preflight import PreflightError
+
         cache = TableCache(Path(str(props.get("cache")))) if "cache" in props else TableCache.default()
+        force = props.get("force") if "force" in props else False
+        if not isinstance(force, bool):
+            raise TableError(f"ink BSDF: parameter 'force' must be a boolean, got {force!r}")
         show_build_log()
-        _, path, _ = get_or_build(request, BuildOptions(cache=cache, workers=build_workers(props)))
+        try:
+            _, path, _ = get_or_build(request, BuildOptions(cache=cache, workers=build_workers(props), force=force))
+        except PreflightError as exc:
+            raise TableError(f"ink BSDF: {exc}") from None
         return load_lut(path)
     if "filename" not in props:
         raise TableError("ink BSDF: needs 'filename' (an ink table .npz, built with `ink-tables build`) "

@@ -73,6 +73,8 @@ def add_run_arguments(p: argparse.ArgumentParser) -> None:
                    help="Dask scheduler address: run the work units there instead of a local pool")
     r.add_argument("--cache", default=None, help="cache directory (default $INKBSDF_CACHE or ~/.cache/inkbsdf)")
     r.add_argument("--no-progress", action="store_true", help="no progress bars")
+    r.add_argument("--force", action="store_true",
+                   help="build even what the up-front estimate says cannot fit this machine's memory or disk")
 
 
 def add_parser(sub) -> None:
@@ -107,7 +109,8 @@ def request_from_args(args) -> TableRequest:
 def options_from_args(args) -> BuildOptions:
     kw = {} if args.workers is None else {"workers": args.workers}
     cache = TableCache(Path(args.cache)) if args.cache else TableCache.default()
-    return BuildOptions(scheduler=args.scheduler, progress=not args.no_progress, cache=cache, **kw)
+    return BuildOptions(scheduler=args.scheduler, progress=not args.no_progress, cache=cache,
+                        force=args.force, **kw)
 
 
 def check_output(path: Path, suffix: str = ".npz", option: str = "-o") -> Path:

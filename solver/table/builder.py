@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import tier_choice
+from . import preflight, tier_choice
 from .cache import TableCache
 from .executor import check_scheduler, default_workers, local_pool, run_units, usable_workers
 from .meta import table_meta
@@ -40,6 +40,7 @@ class BuildOptions:
     progress: bool = True
     cache: TableCache = field(default_factory=TableCache.default)
     pool: object = field(default=None, compare=False)   # a running executor.local_pool to reuse
+    force: bool = False                  # build even what the preflight estimate says cannot fit
 
     def __post_init__(self):
         if not isinstance(self.workers, (int, np.integer)) or isinstance(self.workers, bool) or self.workers < 1:
@@ -216,6 +217,7 @@ def get_or_build(request: TableRequest, opts: BuildOptions | None = None) -> tup
     opts.cache.check()
     table = opts.cache.load(request)
     if table is None:
+        preflight.check(request, opts.workers, opts.cache.root, force=opts.force)
         if opts.scheduler and not request.molecular:
             check_scheduler(opts.scheduler)
         opts.cache.sweep()

@@ -29,6 +29,10 @@ SOLVE_BYTES_PER_VOXEL = 620.0
 #: wave solve time per operator application per voxel·log2(voxels), and applications per solve
 SECONDS_PER_VOXEL_LOG = 2.5e-8
 APPLICATIONS_PER_SOLVE = 20
+#: thin-film tier: seconds per (wavelength × angle), measured 0.2 s for 41 × 1000
+MOLECULAR_SECONDS_PER_SAMPLE = 5e-6
+#: grains smaller than this share of a voxel are only an average of the voxels they touch
+UNRESOLVED_GRAIN_SHARE = 0.5
 #: a build warns when it is expected to take longer than this
 LONG_BUILD_S = 600.0
 #: share of the available memory / free disk a build may plan to use
@@ -92,20 +96,42 @@ def estimate(request: TableRequest, workers: int = 1) -> Estimate:
     if request.molecular:
         table = nl * ns * 2 * 2 * 8 + columns
         work = 40e6 + 6 * table
-        return Estimate(int(table), int(work), 0, 0, 1e-6 * nl * ns)
+        return Estimate(int(table), int(work), 0, 0, MOLECULAR_SECONDS_PER_SAMPLE * nl * ns)
     from ..geometry import geometry_cost
     from .wave_tier import layer_spec, needs_below
 
     w = request.wave
     table = 2 * nl * ns * ns * g.dphi_count * 8 + 2 * columns          # R and its errors
     voxels = math.prod(w.grid)
-    geom = geometry_cost(layer_spec(request), w.grid)
+    geoms = [geometry_cost(layer_spec(request, i), w.grid)
+             for i, layer in enumerate(request.layers) if layer.particles is not None]
+    grains = sum(c.grains for c in geoms)
+    geometry_s = sum(c.seconds for c in geoms)
+    geometry_bytes = max((c.peak_bytes for c in geoms), default=0)
     solve_bytes = SOLVE_BASE_BYTES + SOLVE_BYTES_PER_VOXEL * voxels
     solves = w.realizations * nl * int(g.solved_mask.sum()) * w.azimuths * (2 if needs_below(request) else 1)
-    per_solve = APPLICATIONS_PER_SOLVE * SECONDS_PER_VOXEL_LOG * voxels * math.log2(max(voxels, 2))
-    seconds = (geom.seconds * w.realizations + solves * per_solve) / max(1, workers)
-    return Estimate(int(table), int(max(solve_bytes, geom.peak_bytes) + 3 * table), int(geom.grains),
+    seconds = (geometry_s * w.realizations + solves * solve_seconds(w.grid)) / max(1, workers)
+    return Estimate(int(table), int(max(solve_bytes, geometry_bytes) + 3 * table), int(grains),
                     int(solves), float(seconds))
+
+
+def solve_seconds(grid: tuple[int, int, int]) -> float:
+    """Rough CPU seconds of one wave solve on this grid (applications × cost of one)."""
+    voxels = math.prod(grid)
+    return APPLICATIONS_PER_SOLVE * SECONDS_PER_VOXEL_LOG * voxels * math.log2(max(voxels, 2))
+
+
+def _warn_unresolved(request: TableRequest) -> None:
+    """Grains much smaller than a voxel cost geometry time and give the voxel average only."""
+    if request.molecular:
+        return
+    w = request.wave
+    voxel_nm = min(w.cell_nm / w.grid[0], w.cell_nm / w.grid[1], request.thickness_nm / w.grid[2])
+    for layer in request.layers:
+        if layer.particles is not None and layer.particles.diameter_nm < UNRESOLVED_GRAIN_SHARE * voxel_nm:
+            log.warning("%s: grains of %g nm are much smaller than the %.0f-nm voxels: the wave tier sees "
+                        "only their average (a smooth mix, as --particles molecular gives at no cost)",
+                        request.describe(), layer.particles.diameter_nm, voxel_nm)
 
 
 def check(request: TableRequest, workers: int, cache_root: Path, *, force: bool = False) -> Estimate:
@@ -126,6 +152,7 @@ def check(request: TableRequest, workers: int, cache_root: Path, *, force: bool 
     if problems and not force:
         raise PreflightError(f"{request.describe()}: refused before starting: " + "; ".join(problems)
                              + " (estimate: " + est.describe() + "; use coarser settings, or --force to try anyway)")
+    _warn_unresolved(request)
     if est.seconds > LONG_BUILD_S:
         log.warning("%s will take long: %s", request.describe(), est.describe())
     return est

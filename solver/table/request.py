@@ -46,6 +46,9 @@ LAYER_SEPARATOR = "/"
 #: molecular inks (exact thin film, cheap): 10-nm steps and 46 uniform incidence angles
 FILM_WAVELENGTH_STEP_NM = 10.0
 FILM_SIGMA_COUNT = 46
+#: most incidence angles a table may have: 0.02° steps, far finer than any film or grain feature
+#: the linear interpolation in σ needs (a molecular table at 4096 angles is ~16 MB)
+MAX_ANGLES = 4096
 #: particle inks: 20-nm steps; solved incidence angles (90° is added as its analytic limit)
 PARTICLE_WAVELENGTH_STEP_NM = 20.0
 PARTICLE_SIGMA_DEG = (0.0, 15.0, 30.0, 45.0, 60.0, 70.0, 80.0)
@@ -241,8 +244,9 @@ def wavelength_range(text: str) -> tuple[float, ...]:
 
 def uniform_angles(count: int) -> tuple[float, ...]:
     """`count` incidence angles uniformly from 0 to 90° inclusive (radians)."""
-    if not isinstance(count, (int, np.integer)) or count < 2:
-        raise RequestError(f"--angles is a count of incidence angles from 0° to 90° inclusive, ≥ 2; got {count!r}")
+    if not isinstance(count, (int, np.integer)) or not 2 <= count <= MAX_ANGLES:
+        raise RequestError(f"--angles is a count of incidence angles from 0° to 90° inclusive, 2 … {MAX_ANGLES}; "
+                           f"got {count!r}")
     return tuple(float(s) for s in np.linspace(0.0, np.pi / 2, int(count)))
 
 
@@ -362,6 +366,9 @@ def validate(req: TableRequest) -> None:
     except ValueError as exc:
         raise RequestError(str(exc)) from None
     s = np.asarray(req.grids.sigma_rad)
+    if s.size > MAX_ANGLES:
+        raise RequestError(f"{OPTION['sigma_rad']}: {s.size:,} incidence angles; at most {MAX_ANGLES} "
+                           "(finer than the tables' interpolation needs, and the table grows with them)")
     if s.size < 2 or not np.all(np.isfinite(s)) or abs(s[0]) > 1e-12 or abs(s[-1] - np.pi / 2) > 1e-12 \
             or np.any(np.diff(s) <= 0):
         raise RequestError(f"{OPTION['sigma_rad']}: incidence angles must increase strictly from 0° to 90°")

@@ -1,0 +1,96 @@
+"""Builds that cannot fit this machine are refused before any work, with the estimate and the
+limit in one line; long ones are warned about; --force / force=true overrides."""
+
+import logging
+import time
+
+import pytest
+from conftest import run_main
+
+from solver.cli import main
+from solver.table import preflight
+from solver.table.builder import BuildOptions, get_or_build
+from solver.table.cache import TableCache
+from solver.table.request import MAX_ANGLES, RequestError, table_request
+
+
+@pytest.mark.parametrize("args", [
+    ["--ink", "Y15", "--particles", "sphere:100", "--grid", "4096", "4096", "2048"],
+    ["--ink", "Y15", "--particles", "sphere:100", "--grid", "4096", "4096", "16"],
+    ["--ink", "R15", "--particles", "sphere:100", "--thickness", "1e9"],
+])
+def test_impossible_builds_refused_before_any_work(args, tmp_path, capsys):
+    t0 = time.perf_counter()
+    status, out, err = run_main(main, ["build", *args, "--cache", tmp_path / "c", "--no-progress",
+                                       "-o", tmp_path / "t.npz"], capsys)
+    assert status == 2
+    line = err.strip().splitlines()[-1]
+    assert "refused before starting" in line and "memory" in line and "--force" in line
+    assert "GB per worker" in line and "available" in line       # the estimate and the limit
+    assert time.perf_counter() - t0 < 20
+    assert not (tmp_path / "c" / "parts").exists() or not any((tmp_path / "c" / "parts").iterdir())
+    assert not (tmp_path / "t.npz").exists()
+
+
+def test_too_many_angles_refused(tmp_path, capsys):
+    status, _, err = run_main(main, ["build", "--ink", "R15", "--angles", "1000000", "--cache", tmp_path / "c",
+                                     "-o", tmp_path / "t.npz"], capsys)
+    assert status == 2 and "--angles" in err and str(MAX_ANGLES) in err
+    with pytest.raises(RequestError, match="--angles"):
+        table_request("R15", sigma_rad=tuple(float(i) for i in range(MAX_ANGLES + 1)))
+
+
+def test_force_skips_the_refusal_but_keeps_the_estimate(tmp_path):
+    request = table_request("R15", "sphere:100", grid=(4096, 4096, 16))
+    with pytest.raises(preflight.PreflightError):
+        preflight.check(request, 1, tmp_path)
+    est = preflight.check(request, 1, tmp_path, force=True)
+    assert est.worker_bytes > preflight.available_memory_bytes()
+
+
+def test_estimate_grows_with_what_is_asked():
+    base = preflight.estimate(table_request("R15", "sphere:100"))
+    finer = preflight.estimate(table_request("R15", "sphere:100", grid=(128, 128, 64)))
+    more = preflight.estimate(table_request("R15", "sphere:100", realizations=8))
+    assert finer.worker_bytes > base.worker_bytes and finer.seconds > base.seconds
+    assert more.solves == 2 * base.solves and more.seconds > base.seconds
+    assert preflight.estimate(table_request("R15", "sphere:100"), workers=2).seconds < base.seconds
+    # grains: volume fraction × layer volume / grain volume (an independent count, not the model's)
+    import math
+    expected = 0.15 * 2000.0 ** 2 * 1000.0 / (math.pi / 6 * 100.0 ** 3)
+    assert 0.6 * expected < base.grains < 1.6 * expected
+
+
+def test_stack_estimate_counts_both_layers():
+    one = preflight.estimate(table_request("Y15", "sphere:100"))
+    stack = preflight.estimate(table_request("Y15/B15", "sphere:100"))
+    assert 1.6 * one.grains < stack.grains < 2.4 * one.grains
+    assert stack.solves >= 2 * one.solves          # solved from above and from below
+
+
+def test_molecular_estimate_is_small_and_passes(tmp_path):
+    est = preflight.check(table_request("R15"), 2, tmp_path)
+    assert est.grains == 0 and est.solves == 0 and est.seconds < 5 and est.worker_bytes < 1e9
+
+
+def test_long_build_and_unresolved_grains_warned(tmp_path, caplog):
+    with caplog.at_level(logging.WARNING, logger="inkbsdf.tables"):
+        preflight.check(table_request("R15", "sphere:5"), 2, tmp_path)
+    text = caplog.text
+    assert "much smaller than" in text and "voxels" in text
+    assert "will take long" in text and "grains per cell" in text
+
+
+def test_refusal_happens_inside_get_or_build(tmp_path):
+    opts = BuildOptions(cache=TableCache(tmp_path / "c"), workers=1, progress=False)
+    with pytest.raises(preflight.PreflightError, match="refused before starting"):
+        get_or_build(table_request("R15", "sphere:100", thickness_nm=1e9), opts)
+
+
+def test_scene_ink_gets_the_same_check(use_variant, tmp_path):
+    mi = use_variant("scalar_spectral")
+    with pytest.raises(Exception, match="refused before starting.*parameter 'force'"):
+        mi.load_dict({"type": "ink", "ink": "R15", "particles": "sphere:100", "thickness": 1e9,
+                      "cache": str(tmp_path / "c")})
+    with pytest.raises(Exception, match="'force' must be a boolean"):
+        mi.load_dict({"type": "ink", "ink": "R15", "force": "yes", "cache": str(tmp_path / "c")})
