@@ -36,5 +36,7 @@ def environment(tree: Path) -> dict:
 
 
 def run_python(tree: Path, args: list[str], **kw) -> subprocess.CompletedProcess:
-    """`python ARGS` with `tree`'s packages first on the path."""
-    return subprocess.run([sys.executable, *args], env=environment(tree), check=True, **kw)
+    """`python ARGS` with `tree`'s packages first on the path, run in `tree`: `-m` and `-c` put
+    the working folder first on sys.path, ahead of PYTHONPATH, so running them from this
+    checkout would time this checkout's code instead of the tree's."""
+    return subprocess.run([sys.executable, *args], env=environment(tree), cwd=str(tree), check=True, **kw)

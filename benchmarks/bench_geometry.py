@@ -21,11 +21,11 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import subprocess
 import sys
 import tempfile
 import time
 import tracemalloc
+from pathlib import Path
 
 import numpy as np
 
@@ -33,6 +33,8 @@ from solver.geometry import (LayerSpec, draw_grains, find_overlaps, generate, ge
                              reachable_limit, voxelize)
 from solver.geometry.packing import PackOptions
 from solver.inks import parse_ink
+
+from .baseline import extract, run_python
 
 GRID = (128, 128, 64)
 SPEED_CASES = [
@@ -80,6 +82,8 @@ import json, sys, time, tracemalloc
 import numpy as np
 from solver.geometry import LayerSpec, generate, parse_particles, voxelize
 from solver.inks import parse_ink
+
+from .baseline import extract, run_python
 ink, particles, cell, thickness, grid, trace = json.loads(sys.argv[1])
 layer = LayerSpec(parse_ink(ink), parse_particles(particles), thickness, (cell, cell))
 if trace:
@@ -103,20 +107,9 @@ print(json.dumps(dict(n=int(len(real.radii_nm)), place_s=t1 - t0, place_cpu_s=c1
 def run_case(path: str, case, trace: bool) -> dict:
     """One speed case in a fresh interpreter with `path` first on PYTHONPATH."""
     ink, particles, cell, thickness, grid, _ = case
-    env = dict(os.environ, PYTHONPATH=path)          # cwd=path too: "-c" puts the cwd first on sys.path
-    out = subprocess.run([sys.executable, "-c", _CASE_SCRIPT,
-                          json.dumps([ink, particles, cell, thickness, list(grid), trace])],
-                         env=env, cwd=path, capture_output=True, text=True, check=True)
+    out = run_python(Path(path), ["-c", _CASE_SCRIPT, json.dumps([ink, particles, cell, thickness, list(grid), trace])],
+                     capture_output=True, text=True)
     return json.loads(out.stdout.strip().splitlines()[-1])
-
-
-def export_revision(rev: str, folder: str) -> str:
-    """`git archive` of rev's solver/ into folder (read-only use of the repository)."""
-    root = subprocess.run(["git", "rev-parse", "--show-toplevel"], capture_output=True, text=True,
-                          check=True).stdout.strip()
-    archive = subprocess.run(["git", "-C", root, "archive", rev, "solver"], capture_output=True, check=True).stdout
-    subprocess.run(["tar", "-x", "-C", folder], input=archive, check=True)
-    return folder
 
 
 def speed_case(case, seed=1):
@@ -156,7 +149,11 @@ def compare(baseline_rev: str | None):
     trees = [("new", here)]
     with tempfile.TemporaryDirectory(prefix="geom_baseline_") as tmp:
         if baseline_rev:
-            trees.append((baseline_rev, export_revision(baseline_rev, tmp)))
+            tree = extract(baseline_rev, Path(tmp))
+            if tree is None:
+                baseline_rev = None
+            else:
+                trees.append((baseline_rev, str(tree)))
         print(f"{'case':40s} " + "  ".join(f"{name + ': place / cpu / voxelise / peak (generate) / grid err':65s}"
                                            for name, _ in trees)
               + ("  ratio old/new (place, total)" if baseline_rev else ""))

@@ -128,11 +128,12 @@ def test_interrupted_build_stops_promptly_and_leaves_nothing(tmp_path, sig, code
     assert not process_group(proc.pid)
 
 
-def test_a_script_without_main_guard_builds_in_one_process(tmp_path):
+@pytest.mark.parametrize("how", ["file", "stdin"])
+def test_a_script_without_main_guard_builds_in_one_process(tmp_path, how):
     """Spawned workers re-run a script's top level: without a `__main__` guard that would build
-    again in every worker (a deadlock or a broken pool); detected, one process, a warning."""
-    script = tmp_path / "unguarded.py"
-    script.write_text(
+    again in every worker (a deadlock or a broken pool), and a script read from standard input
+    cannot be re-run at all; detected, one process, a warning."""
+    text = (
         "import numpy as np\n"
         "from solver.table.builder import BuildOptions, build_table\n"
         "from solver.table.cache import TableCache\n"
@@ -141,6 +142,11 @@ def test_a_script_without_main_guard_builds_in_one_process(tmp_path):
         "                    sigma_rad=tuple(np.radians([0.0, 40.0, 90.0])), realizations=2, tier='full')\n"
         f"t = build_table(req, BuildOptions(workers=2, progress=False, cache=TableCache({str(tmp_path / 'c')!r})))\n"
         "print('built', t.Rbar.shape)\n")
-    res = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=300)
+    if how == "file":
+        script = tmp_path / "unguarded.py"
+        script.write_text(text)
+        res = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=300)
+    else:
+        res = subprocess.run([sys.executable, "-"], input=text, capture_output=True, text=True, timeout=300)
     assert res.returncode == 0, res.stderr
     assert "built (2, 3)" in res.stdout and "guard" in res.stderr and "Traceback" not in res.stderr

@@ -82,8 +82,9 @@ def _stop(pool: ProcessPoolExecutor) -> None:
 
 
 def main_is_guarded() -> bool:
-    """False when the running script has no `if __name__ == "__main__":` guard: spawned pool
-    workers re-run a script's top level (which would build again, recursively)."""
+    """False when the running script has no `if __name__ == "__main__":` guard (spawned pool
+    workers re-run a script's top level, which would build again, recursively), or is no file
+    that a worker could re-run (a script read from standard input)."""
     import __main__
 
     path = getattr(__main__, "__file__", None)
@@ -93,15 +94,16 @@ def main_is_guarded() -> bool:
     try:
         text = open(path, encoding="utf-8", errors="replace").read()
     except OSError:
-        return True
+        return False         # `python - < script`: spawned workers cannot re-read "<stdin>"
     return re.search(r"__name__\s*==\s*['\"]__main__['\"]", text) is not None
 
 
 def usable_workers(workers: int) -> int:
     """`workers`, or 1 with a warning when the calling script cannot spawn workers safely."""
     if workers > 1 and not main_is_guarded():
-        warnings.warn("inkbsdf: this script has no `if __name__ == \"__main__\":` guard, so table "
-                      "workers cannot be spawned safely; building in one process", stacklevel=3)
+        warnings.warn("inkbsdf: this script has no `if __name__ == \"__main__\":` guard (or is read from "
+                      "standard input), so table workers cannot be spawned safely; building in one process",
+                      stacklevel=3)
         return 1
     return workers
 

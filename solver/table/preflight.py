@@ -27,8 +27,8 @@ log = logging.getLogger("inkbsdf.tables")
 SOLVE_BASE_BYTES = 80e6
 SOLVE_BYTES_PER_VOXEL = 620.0
 #: wave solve time per operator application per voxel·log2(voxels), and applications per solve
-SECONDS_PER_VOXEL_LOG = 2.5e-8
-APPLICATIONS_PER_SOLVE = 20
+SECONDS_PER_VOXEL_LOG = 3e-9
+APPLICATIONS_PER_SOLVE = 15
 #: thin-film tier: seconds per (wavelength × angle), measured 0.2 s for 41 × 1000
 MOLECULAR_SECONDS_PER_SAMPLE = 5e-6
 #: grains smaller than this share of a voxel are only an average of the voxels they touch
