@@ -13,16 +13,19 @@ one extra solve) splits the solve into stages.
 from __future__ import annotations
 
 import argparse
-import cProfile
 import json
 import math
-import pstats
 import resource
 import time
 import tracemalloc
 
 import numpy as np
 import scipy.fft as sfft
+
+try:
+    from .cprofile_stages import grouped_profile
+except ImportError:                      # run as a script: the benchmark's child process
+    from cprofile_stages import grouped_profile
 
 
 def fft_floor(shape: tuple[int, int, int], workers: int, op=None, repeats: int = 20) -> float:
@@ -88,41 +91,16 @@ STAGES = (  # (stage, how a profile entry is recognised: (file suffix or "", fun
 )
 
 
-def _matches(path: str, func: str, suffix: str, fname: str) -> bool:
-    """Profile entry (path, func) is (suffix, fname): "" matches any file (then fname is a
-    substring of a built-in's name), "*" any function of the file."""
-    if not path.endswith(suffix):
-        return False
-    return fname == "*" or func == fname or (not suffix and fname in func)
+CUMULATIVE = (("energy check", "wave/energy.py", "absorption"), ("energy check", "wave/energy.py", "closure"),
+              ("energy check", "wave/energy.py", "midpoint_absorption"),
+              ("orders", "wave/orders.py", "diffraction_orders"), ("prepare", "wave/operator.py", "prepare"))
 
 
 def profile_stages(fn) -> dict:
-    """CPU seconds per stage of fn() (tottime grouped by STAGES; cumulative for the energy
+    """CPU seconds per stage of fn() (own time grouped by STAGES; cumulative for the energy
     check, the orders and prepare)."""
-    prof = cProfile.Profile(time.process_time)
-    prof.enable()
-    fn()
-    prof.disable()
-    stats = pstats.Stats(prof).stats
-    out = {name: 0.0 for name, *_ in STAGES}
-    cum = {"energy check": 0.0, "orders": 0.0, "prepare": 0.0}
-    total = 0.0
-    for (path, _, func), (_, _, tt, ct, _) in stats.items():
-        total += tt
-        for name, *rules in STAGES:
-            if any(_matches(path, func, suffix, fname) for suffix, fname in rules):
-                out[name] += tt
-                break
-        if path.endswith("wave/energy.py") and func in ("absorption", "closure",
-                                                         "midpoint_absorption"):
-            cum["energy check"] += ct
-        if path.endswith("wave/orders.py") and func == "diffraction_orders":
-            cum["orders"] += ct
-        if path.endswith("wave/operator.py") and func == "prepare":
-            cum["prepare"] += ct
-    out.update(cum)
-    out["total"] = total
-    return out
+    own, cum, total = grouped_profile(fn, STAGES, CUMULATIVE)
+    return {**own, **cum, "total": total}
 
 
 def main() -> None:

@@ -12,10 +12,13 @@ the results; then one profiled unit (cProfile, CPU clock) split into stages.
 from __future__ import annotations
 
 import argparse
-import cProfile
 import json
-import pstats
 import time
+
+try:
+    from .cprofile_stages import grouped_profile
+except ImportError:                      # run as a script with the solver to measure on the path
+    from cprofile_stages import grouped_profile
 
 STAGES = (  # (stage, rules: (file suffix or "", function name or "*")); tottime is grouped
     ("FFT", ("", "c2c"), ("wave/fftback.py", "_fftw")),
@@ -36,36 +39,13 @@ CUMULATIVE = (  # (stage, file suffix, function): cumulative time
 )
 
 
-def _matches(path: str, func: str, suffix: str, fname: str) -> bool:
-    if not path.endswith(suffix):
-        return False
-    return fname == "*" or func == fname or (not suffix and fname in func)
-
-
 def stage_profile(fn, solves: int) -> dict:
     """CPU ms per solve of fn() by stage: STAGES by own time (their sum and 'rest' make up
     'total'), CUMULATIVE by cumulative time (a separate view: the FFTs and z-work inside
     prepare or the energy check are also counted in their STAGES)."""
-    prof = cProfile.Profile(time.process_time)
-    prof.enable()
-    fn()
-    prof.disable()
-    stats = pstats.Stats(prof).stats
-    out = {name: 0.0 for name, *_ in STAGES}
-    cum = {name + " (cum.)": 0.0 for name, *_ in CUMULATIVE}
-    total = 0.0
-    for (path, _, func), (_, _, tt, ct, _) in stats.items():
-        total += tt
-        for name, *rules in STAGES:
-            if any(_matches(path, func, s, f) for s, f in rules):
-                out[name] += tt
-                break
-        for name, suffix, fname in CUMULATIVE:
-            if path.endswith(suffix) and func == fname:
-                cum[name + " (cum.)"] += ct
-    out["rest"] = total - sum(out.values())
-    out["total"] = total
-    out.update(cum)
+    own, cum, total = grouped_profile(fn, STAGES, CUMULATIVE)
+    out = {**own, "rest": total - sum(own.values()), "total": total}
+    out.update({name + " (cum.)": v for name, v in cum.items()})
     return {k: 1e3 * v / solves for k, v in out.items()}
 
 

@@ -144,3 +144,21 @@ def test_smallest_tilt_reaching():
     # Spheres and isotropic cylinders have no spread: 0.0 when reachable, else None.
     assert smallest_tilt_reaching(LayerSpec(parse_ink("B50"), parse_particles("sphere:100"))) == 0.0
     assert smallest_tilt_reaching(LayerSpec(parse_ink("B55"), parse_particles("cylinder:100:isotropic"))) is None
+
+
+def test_aligned_column_bound_is_hexagonal_packing_of_one_tier():
+    """Vertical cylinders longer than half the layer stand one per column: their fraction is at
+    most the hexagonal disc packing π/√12 times length / thickness (computed here from the
+    cylinder's volume and aspect, not from the module's constants); shorter ones stack."""
+    from solver.geometry import aligned_column_bound
+
+    r, length = cylinder_radius_length(300.0)
+    assert math.pi * r ** 2 * length == pytest.approx(math.pi / 6 * 300.0 ** 3, rel=1e-9)
+    layer = LayerSpec(parse_ink("R50"), parse_particles("cylinder:300:vertical"), 1000.0, (2000.0, 2000.0))
+    hexagonal = (math.pi * r ** 2) / (2 * math.sqrt(3) * r ** 2) * length / 1000.0
+    assert aligned_column_bound(layer) == pytest.approx(hexagonal, rel=1e-9)
+    assert aligned_column_bound(layer) < 0.5 and reachable_limit(layer) <= aligned_column_bound(layer)
+    short = LayerSpec(parse_ink("R50"), parse_particles("cylinder:100:vertical"), 1000.0, (2000.0, 2000.0))
+    assert aligned_column_bound(short) is None
+    assert aligned_column_bound(LayerSpec(parse_ink("R50"), parse_particles("sphere:300"), 1000.0,
+                                          (2000.0, 2000.0))) is None

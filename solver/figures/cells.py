@@ -98,16 +98,18 @@ def failure_reason(exc: BaseException) -> str:
 
 def across_particles(row: Row, column: Column, settings: FigureSettings) -> tuple[str, float | None]:
     """The particle spec of a cylinders-across-the-layer cell, and the tilt it uses."""
+    from ..geometry import aligned_column_bound, reachable_limit, smallest_tilt_reaching
     from ..table.wave_tier import layer_spec
 
-    try:
-        from ..geometry import smallest_tilt_reaching
-    except ImportError:          # orientation spreads not available yet: plain vertical cylinders
-        return column.particles, None
-    tilt = smallest_tilt_reaching(layer_spec(settings.request(row.ink, column.particles)), TILTS_DEG)
+    layer = layer_spec(settings.request(row.ink, column.particles))
+    tilt = smallest_tilt_reaching(layer, TILTS_DEG)
     if tilt is None:
-        raise ValueError(f"no orientation spread up to {TILTS_DEG[-1]:g}° reaches {row.label} with "
-                         f"{column.particles}")
+        bound = aligned_column_bound(layer)
+        why = (f": one per column, even hexagonally packed they fill {100 * bound:.1f} %, the packer reaches "
+               f"{100 * reachable_limit(layer):.1f} %, and every spread up to {TILTS_DEG[-1]:g}° lowers it"
+               if bound is not None else "")
+        raise ValueError(f"{column.particles} cannot hold {row.label} across a "
+                         f"{layer.thickness_nm:g}-nm layer{why}")
     tilt = float(tilt)
     return (column.particles if tilt == 0 else f"{column.particles}:tilt={tilt:g}"), tilt
 

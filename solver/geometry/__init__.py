@@ -12,7 +12,7 @@ See docs/geometry.md for the algorithms and measured numbers.
 
 from .cost import GeometryCost, geometry_cost
 from .generate import GENERATE_STAGES, GeneratorStats, Realization, generate
-from .limits import DEFAULT_TILTS_DEG, reachable_limit, smallest_tilt_reaching
+from .limits import DEFAULT_TILTS_DEG, aligned_column_bound, reachable_limit, smallest_tilt_reaching
 from .placement import Placement, place
 from .populations import Grains, draw_grains
 from .spec import (AGGLUTINATED_DEFAULT_KT, GeometryError, LayerSpec, ParticleSpec, ParticleSpecError,
@@ -25,5 +25,5 @@ __all__ = [
     "GeometryCost", "GeometryError", "Grains", "LayerSpec", "ParticleSpec", "ParticleSpecError", "Placement",
     "Realization", "UnreachableConcentrationError", "VoxelFractions", "cluster_statistic", "cylinder_radius_length",
     "draw_grains", "eps_grid", "find_overlaps", "generate", "geometry_cost", "pair_correlation", "parse_particles",
-    "place", "reachable_limit", "smallest_tilt_reaching", "voxelize",
+    "place", "reachable_limit", "smallest_tilt_reaching", "aligned_column_bound", "voxelize",
 ]

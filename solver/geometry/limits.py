@@ -96,6 +96,19 @@ def geometric_limit(layer: LayerSpec) -> float:
     return packed * DISC_PACKING * length / (layer.thickness_nm * share * mean_sec)
 
 
+def aligned_column_bound(layer: LayerSpec) -> float | None:
+    """The fraction aligned vertical cylinders fill when hexagonally packed, one per column (a
+    rigorous upper bound for them: too long to stack two in the layer), None where that does
+    not apply (other shapes, or cylinders that stack)."""
+    spec = layer.particles
+    if not (spec.shape == "cylinder" and spec.orientation == "vertical" and spec.rough_top == 0):
+        return None
+    _, length = cylinder_radius_length(spec.diameter_nm * math.exp(-3.0 * spec.size_spread))
+    if length <= 0.5 * layer.thickness_nm:
+        return None
+    return DISC_PACKING * length / layer.thickness_nm
+
+
 def reachable_limit(layer: LayerSpec) -> float:
     """Largest total pigment volume fraction the generator accepts for this layer."""
     spec = layer.particles

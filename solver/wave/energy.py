@@ -12,7 +12,7 @@ slab holds per lateral harmonic (docs/wave_solver.md, "Energy"):
 r = b − (I − GV)·w the true residual, f = V·w.  `closure` gives A and E from r at the cost of
 one inner product: E measures how far w is from solving the scheme (it is 0 for an exact
 solve), the kernels being right.  `absorption` computes A independently by quadrature of
-∫|u|² (3 Gauss points per z-cell, exact intra-cell field), a check of the kernels themselves:
+∫|u|² (GAUSS_POINTS per z-cell, exact intra-cell field), a check of the kernels themselves:
 its E agrees with the closure's to ~1e-8 (tests).
 
 TM (per-harmonic face forms, faces.py): at a face the slab-side flux of a harmonic whose

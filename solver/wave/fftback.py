@@ -21,7 +21,7 @@ import numpy as np
 import scipy.fft as sfft
 
 #: default FFT library of prepare_background / prepare / solve: 'auto' = FFTW where pyFFTW is
-#: installed (the optional dependency `inkbsdf[fftw]`: 1.4× faster solves), else scipy.fft
+#: installed (the optional dependency `inkbsdf[fftw]`; its speed-up: docs/wave_solver.md, "FFT library"), else scipy.fft
 DEFAULT_FFT = "auto"
 FFT_NAMES = ("scipy", "fftw", "auto")
 ALIGNMENT = 64

@@ -23,7 +23,8 @@ anomaly (k_a = 0 or k_c = 0) r = 1: nothing divides by k_z.
 z-discretisation: nz uniform cells of height h = H/nz, nb = 1 or 2 Legendre functions per cell
 (zbasis.py).  The Galerkin matrix M^{pq}_{kl} = (1/h)∫_k∫_l φ_p g φ_q is Toeplitz (E1, E4) plus
 Hankel (E2, E3) in the cell indices; circulant_kernels returns both as circulant embeddings of
-length 2nz (circulant_blocks), applied by FFT (operator.py).
+length 2nz (circulant_blocks); the operator applies the same matrix by exact recursions along z
+(zkernels.py; docs/wave_solver.md, "z-recursions"), and the blocks serve as its dense reference.
 """
 from __future__ import annotations
 

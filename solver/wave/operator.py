@@ -348,20 +348,20 @@ def apply_scattering(op: LayerOperator, w: np.ndarray, ws: Workspace | None = No
                      out: np.ndarray | None = None) -> np.ndarray:
     """G V·w (the Born-series map without the source) for w (nb, nx, ny, nz), into out or a
     new array."""
-    ws = Workspace(op) if ws is None else ws
-    g = scatter_zmajor(op, to_zmajor(w), ws)
-    if out is None:
-        return from_zmajor(g)
-    np.copyto(out, np.moveaxis(g, -3, -1))
-    return out
+    return _in_natural_layout(scatter_zmajor, op, w, ws, out)
 
 
 def apply_system(op: LayerOperator, w: np.ndarray, ws: Workspace | None = None,
                  out: np.ndarray | None = None) -> np.ndarray:
     """(I − G V)·w for w (nb, nx, ny, nz): one operator application (into out, or a new
     array)."""
-    ws = Workspace(op) if ws is None else ws
-    g = system_zmajor(op, to_zmajor(w), ws)
+    return _in_natural_layout(system_zmajor, op, w, ws, out)
+
+
+def _in_natural_layout(zmajor_map, op: LayerOperator, w: np.ndarray, ws: Workspace | None,
+                       out: np.ndarray | None) -> np.ndarray:
+    """zmajor_map applied to w (nb, nx, ny, nz), the result in the same layout (into out)."""
+    g = zmajor_map(op, to_zmajor(w), Workspace(op) if ws is None else ws)
     if out is None:
         return from_zmajor(g)
     np.copyto(out, np.moveaxis(g, -3, -1))

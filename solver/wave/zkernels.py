@@ -24,7 +24,7 @@ channels one form:
 
 P = Out⁰, Q_k = Out¹_{nz−1−k}.  Every factor has modulus ≤ 1 (evanescent harmonics only
 decay, nothing is divided by a), and each step is an exact identity: the result equals the
-Galerkin matrix to rounding (test: 1e-15 relative in complex128 against the dense blocks).
+Galerkin matrix to rounding (test: 1e-13 relative in complex128 against the dense blocks).
 
 The operator's unknowns are laid out z-major here, (nb, nz, nx·ny): a z-cell is a contiguous
 row of lateral harmonics, so every recursion step is one vector operation over nx·ny values
