@@ -176,7 +176,7 @@ def test_across_cylinders_use_the_smallest_reaching_tilt(tmp_path, monkeypatch):
     assert seen[0][:2] == ("R15", "cylinder:300:vertical") and 0.0 in seen[0][2]
     # no spread reaches it: the cell is planned as failed (drawn, with the reason), not skipped
     plans = plan_cells(parse_rows("R30", "fig7"), (column,), settings)
-    assert len(plans) == 1 and plans[0].request is None and "no orientation spread" in plans[0].error
+    assert len(plans) == 1 and plans[0].request is None and "cannot hold R30" in plans[0].error
     opts = BuildOptions(workers=1, progress=False, cache=TableCache(tmp_path / "cache"))
     results = build_cells(plans, opts, [0.0], progress=False)
     assert not results[0].ok and results[0].error == plans[0].error
@@ -227,3 +227,12 @@ def test_output_must_be_a_png(tmp_path):
     res = subprocess.run([sys.executable, "-m", "solver.cli", "paper", "fig9", "-o", str(tmp_path / "x.jpg")],
                          capture_output=True, text=True)
     assert res.returncode == 2 and ".png" in res.stderr and res.stderr.count("\n") == 1, res.stderr
+
+
+def test_unreachable_across_cell_says_why():
+    """300-nm cylinders across a 1000-nm layer stand one per column (545 nm long): hexagonal
+    packing caps them below 50 %, so the R50 cell is planned as failed, with the numbers."""
+    column = parse_columns("cylinder:300:vertical", "fig7")[0]
+    plans = plan_cells(parse_rows("R50,R30", "fig7"), (column,), FigureSettings("preview"))
+    assert plans[0].request is None and "49.4 %" in plans[0].error and "packer reaches" in plans[0].error
+    assert plans[1].request is not None
