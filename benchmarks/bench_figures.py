@@ -1,7 +1,8 @@
 """The figures' costs and the honesty of their standard errors.
 
-    python -m benchmarks.bench_figures            # ~2–4 min on 2 cores
-    python -m benchmarks.bench_figures draw       # some sections: plan, se, draw
+    python -m benchmarks.bench_figures            # ~2–4 min on 2 cores (+ presets: ~35 min the first time)
+    python -m benchmarks.bench_figures draw       # some sections: plan, se, draw, presets
+    python -m benchmarks.bench_figures presets    # preset errors vs fine (~35 min the first time)
 
 1. plan: cells and estimated build time of Fig. 7, 8 and 9 at each accuracy preset (the table
    preflight's model; with 2 workers and 16), nothing built;
@@ -10,7 +11,9 @@
    correlated, and the larger — what the CSV reports);
 3. drawing: one Fig. 6 cell and one colour + SE for a particle and a molecular table on the
    default grids, and composing and writing a full 21 × 17 Fig. 7 (one table in every cell,
-   so only drawing is timed).
+   so only drawing is timed);
+4. presets: each accuracy preset's colour error (ΔE2000) against `fine` and its build time on
+   a few cells (tables kept in out/bench/presets_cache).
 """
 
 from __future__ import annotations
@@ -120,9 +123,42 @@ def drawing(cache: TableCache) -> None:
           f"{layout.size[0]} × {layout.size[1]} px: {OUT / 'fig7_layout.png'}")
 
 
+#: cells of the preset study: a small and a large sphere, in-plane cylinders (the fine tables
+#: take ~10 min each on 2 cores; kept in out/bench/presets_cache, so a rerun recomputes nothing)
+PRESET_CELLS = (("R30", "sphere:100"), ("Y7.5+B7.5", "sphere:300"), ("B30", "cylinder:200:inplane"))
+
+
+def preset_errors() -> None:
+    """Each accuracy preset's colour against `fine` (ΔE2000 of the CSV's colour: D65, paper 0.9,
+    diffuse light, 0° view) and its build time, on PRESET_CELLS."""
+    from solver.separation.colour_space import delta_e2000
+    from solver.table.builder import get_or_build
+
+    print("\n4. accuracy presets against fine (ΔE2000 of the cell colour; build seconds from an empty cache, "
+          "2 workers; cached tables are reused and their time read from the table)")
+    cache = TableCache(OUT / "presets_cache")
+    print(f"   {'cell':32s} " + "  ".join(f"{a:>22s}" for a in ACCURACY) + "   fine SE (L*, a*, b*)")
+    for ink, particles in PRESET_CELLS:
+        labs, times = {}, {}
+        for accuracy in reversed(ACCURACY):
+            t0 = time.perf_counter()
+            table, _, built = get_or_build(table_request(ink, particles, accuracy=accuracy),
+                                           BuildOptions(workers=2, progress=False, cache=cache))
+            times[accuracy] = (time.perf_counter() - t0 if built
+                               else sum(table.meta.get("timings_s", {}).values()))
+            colour = cell_colour(table)
+            labs[accuracy], se = colour.lab, (colour.se if accuracy == "fine" else None)
+            if accuracy == "fine":
+                fine_se = se
+        cells = [f"ΔE {float(delta_e2000(labs[a], labs['fine'])):5.2f}, {times[a]:6.0f} s" for a in ACCURACY]
+        print(f"   {ink + ' ' + particles:32s} " + "  ".join(f"{c:>22s}" for c in cells)
+              + "   " + " ".join(f"{v:.2f}" for v in fine_se), flush=True)
+
+
 def main(argv=None) -> int:
     cache = TableCache(Path(tempfile.mkdtemp(prefix="figures_")))
-    sections = {"plan": plan_costs, "se": lambda: se_check(cache), "draw": lambda: drawing(cache)}
+    sections = {"plan": plan_costs, "se": lambda: se_check(cache), "draw": lambda: drawing(cache),
+                "presets": preset_errors}
     for name in (argv or sections):
         sections[name]()
     return 0

@@ -93,3 +93,26 @@ def test_diffuse_table_must_be_reciprocal_and_azimuth_free_at_normal(tmp_path, t
     azim[:, :-1, 0, 0] += 0.01                       # reciprocal, but Δφ-dependent at normal incidence
     with pytest.raises(TableError, match="depends on Δφ at sigma = 0"):
         write_table(tmp_path / "b2.npz", _with_diffuse(base, azim))
+
+
+def test_energy_from_below_is_checked_under_diffuse_light(tmp_path, table):
+    """From below, Tbar (measured from above) is not the per-angle transmittance of an
+    asymmetric layer; reciprocity equates the two only cosine-weighted over the hemisphere. A
+    table whose Rbar_below + Tbar exceeds 1 at one angle but not on that average is valid; one
+    exceeding 1 on the average (computed here with a fine midpoint rule) is refused."""
+    s = table.sigma
+    bump = np.where(np.arange(s.size) == s.size - 2, 1.0, 0.0)[None, :]     # one grazing node
+    room = 1.0 - table.Tbar
+    below = np.clip(table.Rbar_below + bump * (room + 0.02), 0.0, 1.0)
+    per_angle = table.Tbar + below
+    assert per_angle.max() > 1.01                                           # refused by a per-angle rule
+    fine = np.linspace(0, np.pi / 2, 20001)
+    mid = 0.5 * (fine[1:] + fine[:-1])
+    mean = np.array([np.sum(np.interp(mid, s, row) * 2 * np.cos(mid) * np.sin(mid) * np.diff(fine))
+                     for row in per_angle])
+    assert mean.max() < 1.0
+    write_table(tmp_path / "ok.npz", replace(table, Rbar_below=below))
+    assert read_table(tmp_path / "ok.npz").Rbar_below.max() == pytest.approx(below.max())
+    worse = np.clip(table.Rbar_below + 0.9 * room + 0.05, 0.0, 1.0)        # every angle: > 1 on average
+    with pytest.raises(TableError, match="'Rbar_below' \\+ 'Tbar' exceeds 1 by .* diffuse light from below"):
+        write_table(tmp_path / "bad.npz", replace(table, Rbar_below=worse))

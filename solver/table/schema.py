@@ -41,7 +41,7 @@ from pathlib import Path
 import numpy as np
 
 from .atomic import atomic_savez
-from .integrals import diffuse_albedo
+from .integrals import diffuse_albedo, hemispherical_mean
 
 SCHEMA_VERSION = 2
 READABLE_VERSIONS = (1, 2)
@@ -155,9 +155,14 @@ def validate(table: InkTable, where: str = "table") -> InkTable:
         _check(excess <= _ENERGY_TOL, where, f"'{coherent}' exceeds '{total}' by {excess:.3g}")
     errors = meta.get("errors", {})
     closure = _closure(table)
-    for total in ("Rbar", "Rbar_below"):
-        over = float(np.max(table.column(total) + table.Tbar - 1.0))
-        _check(over <= closure, where, f"'{total}' + 'Tbar' exceeds 1 by {over:.3g}")
+    over = float(np.max(table.Rbar + table.Tbar - 1.0))
+    _check(over <= closure, where, f"'Rbar' + 'Tbar' exceeds 1 by {over:.3g}")
+    # From below, per angle, Tbar (from above) is not the transmittance: for a layer whose faces
+    # differ (a rough top, a stack) T_below(s) ≠ T_above(s).  Reciprocity equates them only
+    # cosine-weighted over the hemisphere, which is what light coming back from the paper sees:
+    # 2∫(Rbar_below + Tbar) cos s sin s ds ≤ 1 (docs/design.md §1).
+    over = float(np.max(hemispherical_mean(table.sigma, table.Rbar_below + table.Tbar) - 1.0))
+    _check(over <= closure, where, f"'Rbar_below' + 'Tbar' exceeds 1 by {over:.3g} under diffuse light from below")
     scale = max(1.0, float(np.max(table.R)))
     for axis, grid in ((1, table.sigma), (2, table.theta)):     # no azimuth reference at a normal
         normal = np.take(table.R, 0, axis=axis)
