@@ -116,3 +116,15 @@ def test_energy_from_below_is_checked_under_diffuse_light(tmp_path, table):
     worse = np.clip(table.Rbar_below + 0.9 * room + 0.05, 0.0, 1.0)        # every angle: > 1 on average
     with pytest.raises(TableError, match="'Rbar_below' \\+ 'Tbar' exceeds 1 by .* diffuse light from below"):
         write_table(tmp_path / "bad.npz", replace(table, Rbar_below=worse))
+
+
+def test_energy_from_below_allows_the_standard_errors(tmp_path, table):
+    """Rbar_below and Tbar come from different solves: their sum may exceed 1 by sampling
+    noise, within two standard errors, not beyond."""
+    excess = 0.01
+    below = np.clip(1.0 - table.Tbar + excess, 0.0, 1.0)
+    noisy = {"Rbar_below": np.full_like(below, 0.004), "Tbar": np.full_like(below, 0.004)}
+    write_table(tmp_path / "ok.npz", replace(table, Rbar_below=below, errors=noisy))      # 0.01 < 2 × 0.008
+    quiet = {"Rbar_below": np.full_like(below, 0.001), "Tbar": np.full_like(below, 0.001)}
+    with pytest.raises(TableError, match="beyond 2 standard errors"):
+        write_table(tmp_path / "bad.npz", replace(table, Rbar_below=below, errors=quiet))  # 0.01 > 2 × 0.002
