@@ -1,6 +1,6 @@
 """The figures' costs and the honesty of their standard errors.
 
-    python -m benchmarks.bench_figures            # ~2–4 min on 2 cores (+ presets: ~35 min the first time)
+    python -m benchmarks.bench_figures            # ~50 min on 2 cores (presets ~25 min the first time, fig7 ~25 min)
     python -m benchmarks.bench_figures draw       # some sections: plan, se, draw, presets
     python -m benchmarks.bench_figures presets    # preset errors vs fine (~35 min the first time)
 
@@ -13,7 +13,8 @@
    default grids, and composing and writing a full 21 × 17 Fig. 7 (one table in every cell,
    so only drawing is timed);
 4. presets: each accuracy preset's colour error (ΔE2000) against `fine` and its build time on
-   a few cells (tables kept in out/bench/presets_cache).
+   a few cells (tables kept in out/bench/presets_cache);
+5. fig7: the whole Fig. 7 at `preview` from an empty cache, timed (~25 min).
 """
 
 from __future__ import annotations
@@ -155,10 +156,26 @@ def preset_errors() -> None:
               + "   " + " ".join(f"{v:.2f}" for v in fine_se), flush=True)
 
 
+def fig7_preview() -> None:
+    """The whole Fig. 7 at `preview` from an empty cache, as a user runs it (the issue's ≤ 1 h)."""
+    import subprocess
+
+    OUT.mkdir(parents=True, exist_ok=True)
+    with tempfile.TemporaryDirectory(prefix="fig7_") as tmp:
+        t0 = time.perf_counter()
+        out = subprocess.run([sys.executable, "-m", "solver.cli", "paper", "fig7", "--accuracy", "preview",
+                              "--cache", tmp, "--no-progress", "--report", str(OUT / "fig7_preview.md"),
+                              "-o", str(OUT / "fig7_preview.png")], capture_output=True, text=True, check=True)
+        wall = time.perf_counter() - t0
+    summary = [line for line in out.stdout.splitlines() if line.startswith("wrote")]
+    print(f"\n5. Fig. 7 at preview from an empty cache, 2 workers: {duration(wall)} ({wall:.0f} s); "
+          + (summary[0] if summary else ""))
+
+
 def main(argv=None) -> int:
     cache = TableCache(Path(tempfile.mkdtemp(prefix="figures_")))
     sections = {"plan": plan_costs, "se": lambda: se_check(cache), "draw": lambda: drawing(cache),
-                "presets": preset_errors}
+                "presets": preset_errors, "fig7": fig7_preview}
     for name in (argv or sections):
         sections[name]()
     return 0
