@@ -82,8 +82,6 @@ import json, sys, time, tracemalloc
 import numpy as np
 from solver.geometry import LayerSpec, generate, parse_particles, voxelize
 from solver.inks import parse_ink
-
-from .baseline import extract, run_python
 ink, particles, cell, thickness, grid, trace = json.loads(sys.argv[1])
 layer = LayerSpec(parse_ink(ink), parse_particles(particles), thickness, (cell, cell))
 if trace:
