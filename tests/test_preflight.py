@@ -73,12 +73,17 @@ def test_molecular_estimate_is_small_and_passes(tmp_path):
     assert est.grains == 0 and est.solves == 0 and est.seconds < 5 and est.worker_bytes < 1e9
 
 
-def test_long_build_and_unresolved_grains_warned(tmp_path, caplog):
+def test_long_build_and_unresolved_grains_warned(tmp_path, caplog, monkeypatch):
     with caplog.at_level(logging.WARNING, logger="inkbsdf.tables"):
         preflight.check(table_request("R15", "sphere:5"), 2, tmp_path)
-    text = caplog.text
-    assert "much smaller than" in text and "voxels" in text
-    assert "will take long" in text and "grains per cell" in text
+    assert "much smaller than" in caplog.text and "voxels" in caplog.text
+    caplog.clear()
+    est = preflight.estimate(table_request("R15", "sphere:100"), 2)
+    monkeypatch.setattr(preflight, "LONG_BUILD_S", 0.5 * est.seconds)
+    with caplog.at_level(logging.WARNING, logger="inkbsdf.tables"):
+        preflight.check(table_request("R15", "sphere:100"), 2, tmp_path)
+    assert "will take long" in caplog.text and "grains per cell" in caplog.text
+    assert "much smaller than" not in caplog.text
 
 
 def test_refusal_happens_inside_get_or_build(tmp_path):
