@@ -75,7 +75,7 @@ def test_contact_solve_respects_the_walls():
     r = np.array([10.0, 10.0])
     d = c[1] - c[0]
     normal = (d / np.linalg.norm(d))[None]
-    gap = np.array([np.linalg.norm(d) - 20.0])
+    gap = np.array([np.linalg.norm(d) - r.sum()])
     lo, hi = np.array([10.0, 10.0]), np.array([90.0, 90.0])
     walls = wall_rows(c[:, 2], lo, hi, 1.0)
     moves = solve_contacts(Contacts(np.array([0]), np.array([1]), normal, gap), walls, np.ones(2), None, 0.0,

@@ -15,7 +15,7 @@ import argparse
 import numpy as np
 
 from ..colour import lab_hue_chroma, reflectance_to_srgb8, reflectance_to_xyz, xyz_to_lab
-from ..figures.fig6 import figure6, plot_figure6  # noqa: F401  (figure6: the picture's arrays)
+from ..figures.fig6 import plot_figure6
 from ..table import read_table
 from ..table.evaluate import column_at, directional_albedo
 

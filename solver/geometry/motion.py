@@ -165,7 +165,6 @@ def contact_rows(bodies: Bodies, xyz, i, j, normal, gap, period_nm, rotation) ->
     (q_i × n, q_j × n), projected on the allowed rotations."""
     if rotation == "none":
         return Contacts(i, j, normal, gap)
-    d = pair_separations(bodies, xyz, i, j, period_nm)
     axes, h, r = bodies.axes, bodies.half_lengths_nm, bodies.radii_nm
     q_i, m_i, w_i = _support_offsets(axes[i], h[i], r[i], normal)
     q_j, m_j, w_j = _support_offsets(axes[j], h[j], r[j], -normal)
