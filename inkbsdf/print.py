@@ -20,6 +20,8 @@ import sys
 import warnings
 from pathlib import Path
 
+from solver.cli.parsing import DefaultsFormatter, OneLineParser
+
 MARGIN_CM = 1.5                     # white paper around the print on its sheet
 SHEEN_UV = (0.84, 0.17)             # where the softbox's mirror image lands, fraction of the sheet
                                     # (the print's top-right corner: a glimpse of the inks' gloss)
@@ -29,9 +31,8 @@ class UsageError(ValueError):
     """Bad command-line input; the message names the option and the fix."""
 
 
-class _Parser(argparse.ArgumentParser):
-    def error(self, message):        # one line, not argparse's usage block
-        raise UsageError(f"{message} (see --help)")
+class _Parser(OneLineParser):
+    usage_error = UsageError
 
 
 def parse_size(text: str) -> tuple:
@@ -50,7 +51,7 @@ def build_parser() -> argparse.ArgumentParser:
     from solver.printing import COVERAGE_MODELS
 
     p = _Parser(prog="python -m inkbsdf.print", description=__doc__.split("\n\n")[0],
-                formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+                formatter_class=DefaultsFormatter)
     p.add_argument("image", help="image file (PNG, JPEG, TIFF, …; taken as sRGB)")
     p.add_argument("--inks", required=True, help="1 to 4 molecular ink specs in printing order, e.g. R30,Y30,B30")
     p.add_argument("--coverage-model", default=AUTO_MODEL, choices=(AUTO_MODEL,) + COVERAGE_MODELS,

@@ -17,11 +17,12 @@ import math
 import os
 import re
 import sys
-import tempfile
 import time
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
+
+from solver.cli.parsing import DefaultsFormatter, OneLineParser, writable_output
 
 from .errors import loader_problem
 
@@ -132,14 +133,13 @@ def _finite_float(text: str) -> float:
     return value
 
 
-class _Parser(argparse.ArgumentParser):
-    def error(self, message):        # one line, not argparse's usage block
-        raise UsageError(f"{message} (see --help)")
+class _Parser(OneLineParser):
+    usage_error = UsageError
 
 
 def build_parser() -> argparse.ArgumentParser:
     p = _Parser(prog="python -m inkbsdf.render", description=__doc__.split("\n\n")[0],
-                formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+                formatter_class=DefaultsFormatter)
     p.add_argument("scene", help="Mitsuba scene file (.xml)")
     p.add_argument("--tables", default=None, help="folder of ink tables, passed as $tables")
     p.add_argument("--spp", type=_positive_int, default=None,
@@ -158,30 +158,11 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def check_output(path, suffix: str, option: str) -> Path:
-    """An output file that can be written: right extension, a writable folder; else UsageError."""
-    from .imageio import check_suffix
-
+    """An output file that can be written (solver.cli.parsing.writable_output), else UsageError."""
     try:
-        path = check_suffix(path, suffix, option)
+        return writable_output(path, suffix, option)
     except ValueError as exc:
         raise UsageError(str(exc)) from None
-    if path.is_dir():
-        raise UsageError(f"{option} '{path}' is a folder: give a file name ending in {suffix}")
-    folder = path.absolute().parent
-    while not folder.exists():                  # created at write time: its first existing parent
-        folder = folder.parent
-    try:
-        if not folder.is_dir():
-            raise NotADirectoryError(20, "not a folder")
-        fd, probe = tempfile.mkstemp(dir=folder, prefix=".inkbsdf-write-test-")
-        os.close(fd)
-        os.unlink(probe)
-        if path.exists() and not os.access(path, os.W_OK):
-            raise PermissionError(13, f"{path.name} is read-only")
-    except OSError as exc:
-        raise UsageError(f"{option} '{path}': cannot write in {folder} ({exc.strerror}): "
-                         "choose a writable folder") from None
-    return path
 
 
 def _print_warning(message, category, filename, lineno, file=None, line=None):

@@ -55,3 +55,42 @@ def test_wavelength_range():
     assert (wl[0], wl[-1], len(wl)) == (380.0, 780.0, 41) and wavelength_range("500") == (500.0,)
     with pytest.raises(ValueError, match="STEP"):
         wavelength_range("780:380:10")
+
+
+@pytest.mark.parametrize("argv", [
+    ["build", "--ink", "R30", "--accuracy", "ultra", "-o", "x.npz"],
+    ["build", "--ink", "R30", "--grid", "64", "64", "-o", "x.npz"],
+    ["build", "-o", "x.npz"],
+    ["paper", "fig10", "-o", "x.png"],
+])
+def test_usage_errors_are_one_line(argv, capsys):
+    status, _, err = run_main(main, argv, capsys)
+    lines = err.strip().splitlines()
+    assert status == 2 and len(lines) == 1 and "usage:" not in err and "see --help" in lines[0]
+
+
+@pytest.mark.parametrize("command", [["build"], ["paper"], ["show"], ["geometry"]])
+def test_help_states_no_empty_default(command, capsys):
+    with pytest.raises(SystemExit):
+        main(command + ["--help"])
+    out = capsys.readouterr().out
+    assert "(default: None)" not in out and "(default: False)" not in out
+    flat = " ".join(out.split())
+    assert ") (default: ... " not in flat and "(default: middle) (default" not in flat
+
+
+@pytest.mark.parametrize("where", ["proc", "under_a_file"])
+def test_unwritable_outputs_refused_before_any_work(where, tmp_path, capsys):
+    """Writability is probed by creating a file (os.access says yes to root everywhere): a
+    pseudo file system or a path under a file is refused up front, naming the option."""
+    from conftest import run_main
+
+    if where == "proc":
+        target = "/proc/inkbsdf-test/t.npz"
+    else:
+        (tmp_path / "plain").write_text("x")
+        target = str(tmp_path / "plain" / "t.npz")
+    status, _, err = run_main(main, ["build", "--ink", "R30", "--particles", "sphere:100", "--cache",
+                                     tmp_path / "c", "-o", target], capsys)
+    assert status == 2 and "-o" in err and "cannot write" in err
+    assert not (tmp_path / "c" / "tables").exists() or not any((tmp_path / "c" / "tables").iterdir())

@@ -38,6 +38,9 @@ def test_geometry_bad_input_gives_one_error_line(capsys):
             assert word in err
 
 
-def test_molecular_has_no_geometry(capsys):
-    assert main(["geometry", "--ink", "G30", "--particles", "molecular"]) == 0
-    assert "homogeneous" in capsys.readouterr().out
+def test_molecular_has_no_geometry(capsys, tmp_path):
+    """Asking for the geometry of a molecular ink is refused (there is none), and no picture is
+    silently left unwritten."""
+    assert main(["geometry", "--ink", "G30", "--particles", "molecular", "--png", str(tmp_path / "g.png")]) == 2
+    err = capsys.readouterr().err
+    assert "homogeneous" in err and "--particles" in err and not (tmp_path / "g.png").exists()

@@ -14,11 +14,13 @@ import signal
 import sys
 import threading
 
+from .parsing import OneLineParser
+
 SUBCOMMANDS = ("build", "show", "geometry", "paper")
 
 
 def make_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = OneLineParser(
         prog="ink-tables", description="Tables of printed-ink reflectance for the inkbsdf Mitsuba plugin.")
     parser.add_argument("-v", "--verbose", action="store_true", help="log progress details")
     sub = parser.add_subparsers(dest="command", required=True)

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import logging
-import os
 import time
 from pathlib import Path
 
@@ -14,6 +13,7 @@ from ..table.cache import TableCache
 from ..table.executor import default_workers
 from ..table.request import (ACCURACY, DEFAULT_POLARISATION, DEFAULT_THICKNESS_NM, POLARISATIONS, TIERS,
                              TableRequest, WaveSettings, table_request, uniform_angles, wavelength_range)
+from .parsing import DefaultsFormatter, writable_output
 
 log = logging.getLogger("ink-tables")
 _WAVE = WaveSettings()
@@ -78,7 +78,7 @@ def add_run_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def add_parser(sub) -> None:
-    p = sub.add_parser("build", help="compute a table for one ink")
+    p = sub.add_parser("build", help="compute a table for one ink", formatter_class=DefaultsFormatter)
     add_request_arguments(p)
     add_run_arguments(p)
     p.add_argument("-o", "--output", required=True, help="table file to write (.npz)")
@@ -113,23 +113,10 @@ def options_from_args(args) -> BuildOptions:
                         force=args.force, **kw)
 
 
-def check_output(path: Path, suffix: str = ".npz", option: str = "-o") -> Path:
-    """Refuse an output path that cannot be written, before any work."""
-    if path.suffix.lower() != suffix:
-        raise ValueError(f"{option} {path}: expected a {suffix} file name")
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise ValueError(f"{option} {path}: cannot create the folder {path.parent} ({exc.strerror})") from None
-    if path.is_dir() or not os.access(path.parent, os.W_OK):
-        raise ValueError(f"{option} {path}: cannot write there (a folder, or not writable)")
-    return path
-
-
 def run(args) -> int:
     request = request_from_args(args)
     opts = options_from_args(args)
-    check_output(Path(args.output))
+    writable_output(args.output, ".npz", "-o")
     t0 = time.perf_counter()
     table, cached_path, built = get_or_build(request, opts)
     out = Path(args.output)

@@ -9,15 +9,15 @@ exactly through the particles and through the voxel grid the wave solver uses.
 
 from __future__ import annotations
 
-import argparse
 import os
 
 from ..inks import parse_ink
+from .parsing import DefaultsFormatter, writable_output
 
 
 def add_parser(sub) -> None:
     p = sub.add_parser("geometry", help="generate one random layer cell; summary and section pictures",
-                       formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+                       formatter_class=DefaultsFormatter)
     p.add_argument("--ink", required=True, help="ink, e.g. R15, Y7.5+B7.5, G30 (volume percent)")
     p.add_argument("--particles", required=True,
                    help="molecular | sphere:D[:agglutinated[=kT]][:rough[=f]][:spread=σ] | "
@@ -59,9 +59,11 @@ def run(args) -> int:
 
     ink = parse_ink(args.ink)
     particles = parse_particles(args.particles)
+    if args.png:
+        writable_output(args.png, ".png", "--png")
     if particles is None:
-        print(f"{args.particles}: a molecular ink is one homogeneous layer; there is no particle geometry")
-        return 0
+        raise ValueError(f"--particles {args.particles}: a molecular ink is one homogeneous layer, with no "
+                         "particle geometry to generate; give grains, e.g. sphere:100")
     if len(args.cell) > 2:
         raise ValueError(f"--cell takes one or two lengths, got {len(args.cell)}")
     cell = (args.cell[0], args.cell[-1])

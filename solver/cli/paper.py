@@ -10,15 +10,16 @@ what each figure and each CSV column shows.
 
 from __future__ import annotations
 
-from pathlib import Path
 
 from ..figures import FIGURES, FigureSettings, make_figure, parse_columns, parse_rows
 from ..table.request import ACCURACY, TIERS, uniform_angles, wavelength_range
-from .build import add_run_arguments, check_output, options_from_args
+from .build import add_run_arguments, options_from_args
+from .parsing import DefaultsFormatter, writable_output
 
 
 def add_parser(sub) -> None:
-    p = sub.add_parser("paper", help="reproduce the paper's Fig. 7, Fig. 8 or Fig. 9 (PNG + CSV)")
+    p = sub.add_parser("paper", help="reproduce the paper's Fig. 7, Fig. 8 or Fig. 9 (PNG + CSV)",
+                       formatter_class=DefaultsFormatter)
     p.add_argument("figure", choices=tuple(FIGURES), help="which figure")
     p.add_argument("-o", "--output", required=True, help="the figure (.png); the cells' colours go to the same "
                    "name with .csv")
@@ -66,7 +67,7 @@ def run(args) -> int:
     columns = parse_columns(args.columns, args.figure)
     settings = settings_from_args(args)
     opts = options_from_args(args)
-    out = check_output(Path(args.output), ".png", "-o")
-    report = check_output(Path(args.report), ".md", "--report") if args.report else None
+    out = writable_output(args.output, ".png", "-o")
+    report = writable_output(args.report, ".md", "--report") if args.report else None
     make_figure(args.figure, rows, columns, settings, opts, out, report)
     return 0

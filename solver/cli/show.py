@@ -10,13 +10,13 @@ one Δφ with --dphi).
 
 from __future__ import annotations
 
-import argparse
 
 import numpy as np
 
 from ..colour import lab_hue_chroma, reflectance_to_srgb8, reflectance_to_xyz, xyz_to_lab
 from ..figures.fig6 import plot_figure6
 from ..table import read_table
+from .parsing import DefaultsFormatter, writable_output
 from ..table.evaluate import column_at, directional_albedo
 
 
@@ -87,7 +87,7 @@ def plot_spectra(table, path: str) -> None:
 
 def add_parser(sub) -> None:
     p = sub.add_parser("show", help="summarise a table; draw the paper's Fig. 6",
-                       formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+                       formatter_class=DefaultsFormatter)
     p.add_argument("file", help="table file (.npz)")
     p.add_argument("--png", help="write the Fig. 6 picture (strip + BRDF square, with axes and a caption) here")
     p.add_argument("--plot", help="write spectra with error bars here (PNG)")
@@ -102,6 +102,9 @@ def run(args) -> int:
         raise ValueError(f"--paper {args.paper}: the paper albedo must lie in [0, 1]")
     if args.dphi is not None and not (np.isfinite(args.dphi) and 0.0 <= args.dphi <= 180.0):
         raise ValueError(f"--dphi {args.dphi}: the azimuth difference must lie in [0, 180] degrees")
+    for option, path in (("--png", args.png), ("--plot", args.plot)):
+        if path:
+            writable_output(path, ".png", option)
     table = read_table(args.file)
     print(summary(table, args.paper))
     if args.png:
