@@ -28,11 +28,11 @@ import numpy as np
 
 from solver.figures.cell_colour import cell_colour, lab_jacobian, node_errors, propagate_se
 from solver.figures.cells import CellResult, FigureSettings, plan_cells
-from solver.figures.estimate import estimate_seconds
 from solver.figures.fig6 import DPHI_SAMPLES, azimuth_averaged, figure6, pixel_angles_rad
 from solver.figures.layout import CellGeometry
 from solver.figures.make import draw_grid_figure, duration, evaluate_cells
 from solver.figures.paper_grid import FIG7_COLUMNS, FIG7_ROWS, FIGURES, Column
+from solver.table import preflight
 from solver.table.builder import BuildOptions, build_table
 from solver.table.cache import TableCache
 from solver.table.evaluate import diffuse_brdf
@@ -53,7 +53,7 @@ def plan_costs() -> None:
         for accuracy in ACCURACY:
             settings = FigureSettings(accuracy)
             requests = [settings.request(r.ink, c.particles) for r in rows for c in columns]
-            t2, t16 = (sum(estimate_seconds(q, w) for q in requests) for w in (2, 16))
+            t2, t16 = (sum(preflight.estimate(q, w).seconds for q in requests) for w in (2, 16))
             line += f"{duration(t2) + ' / ' + duration(t16):>28s}  "
         print(line)
 

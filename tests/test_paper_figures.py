@@ -37,11 +37,11 @@ def read_rows(path) -> list[dict]:
         return list(csv.DictReader(fh))
 
 
-def run_fig7(tmp_path, out_name="f.png", extra=()):
+def run_fig7(tmp_path, out_name="f.png", extra=(), status=0):
     out = tmp_path / out_name
     code = main(["paper", "fig7", "--rows", ROWS, "--columns", COLUMNS, "--cache", str(tmp_path / "cache"),
                  "-o", str(out), *TINY, *extra])
-    assert code == 0
+    assert code == status
     return out
 
 
@@ -124,7 +124,7 @@ def test_failing_cell_is_crossed_out_not_dropped(tmp_path, monkeypatch, capsys):
         return real(request, opts)
 
     monkeypatch.setattr(cells_mod, "get_or_build", flaky)
-    out = run_fig7(tmp_path)
+    out = run_fig7(tmp_path, status=1)                      # drawn, and the run says it failed
     rows = read_rows(out.with_suffix(".csv"))
     assert [r["status"] for r in rows] == ["ok", "failed", "failed"]
     assert rows[1]["reason"] == "RuntimeError: solver diverged at λ = 450 nm"
@@ -149,7 +149,7 @@ def test_a_table_that_cannot_be_drawn_fails_its_cell_only(tmp_path, monkeypatch)
     monkeypatch.setattr(make, "figure6", picky)
     out = tmp_path / "m.png"
     assert main(["paper", "fig8", "--rows", "R15,Y15", "--columns", "molecular", "--no-progress",
-                 "--cache", str(tmp_path / "cache"), "-o", str(out)]) == 0
+                 "--cache", str(tmp_path / "cache"), "-o", str(out)]) == 1
     rows = read_rows(out.with_suffix(".csv"))
     assert [r["status"] for r in rows] == ["ok", "failed"]
     assert rows[1]["reason"] == "evaluating the table: FloatingPointError: NaN in the square"
@@ -212,6 +212,7 @@ def test_fig9_molecular_curves_are_the_film_transmittance(tmp_path):
     (["--columns", "sphere:-3"], "negative particle size"),
     (["--columns", "sphere:100,sphere:100.0"], "given twice"),
     (["--grid", "2", "2", "2"], "--grid"),
+    (["--grid", "4096", "4096", "2048"], "cannot fit this machine, refused before starting"),
     (["--workers", "2", "--scheduler", "tcp://127.0.0.1:1"], "exclude each other"),
 ])
 def test_bad_input_is_one_line_before_any_work(tmp_path, capsys, args, words):
@@ -236,3 +237,20 @@ def test_unreachable_across_cell_says_why():
     plans = plan_cells(parse_rows("R50,R30", "fig7"), (column,), FigureSettings("preview"))
     assert plans[0].request is None and "49.4 %" in plans[0].error and "packer reaches" in plans[0].error
     assert plans[1].request is not None
+
+
+def test_a_cell_that_fails_to_build_makes_the_run_fail(tmp_path, monkeypatch, capsys):
+    """Cells that cannot exist are part of a complete figure (exit 0); a table that failed to
+    build is a failed run (exit 1), after drawing what it could."""
+    real = cells_mod.get_or_build
+
+    def flaky(request, opts):
+        if not request.molecular:
+            raise RuntimeError("solver diverged")
+        return real(request, opts)
+
+    monkeypatch.setattr(cells_mod, "get_or_build", flaky)
+    out = tmp_path / "f9.png"
+    status, _, _ = run_main(main, ["paper", "fig9", "--rows", "G15", "--columns", "molecular,sphere:300",
+                                   "--no-progress", "--cache", tmp_path / "cache", "-o", out], capsys)
+    assert status == 1 and out.exists()

@@ -69,5 +69,7 @@ def run(args) -> int:
     opts = options_from_args(args)
     out = writable_output(args.output, ".png", "-o")
     report = writable_output(args.report, ".md", "--report") if args.report else None
-    make_figure(args.figure, rows, columns, settings, opts, out, report)
-    return 0
+    output = make_figure(args.figure, rows, columns, settings, opts, out, report)
+    # cells that cannot exist (no table to plan, e.g. an unreachable concentration) are part of a
+    # complete figure; a table that failed to build is a failure of this run: exit status 1
+    return 1 if any(not r.ok and r.cache_key for r in output.records) else 0

@@ -21,7 +21,6 @@ from ..geometry.spec import MOLECULAR_WORDS
 from ..table.builder import BuildOptions, get_or_build
 from ..table.request import TableRequest, table_request
 from ..table.schema import InkTable
-from .estimate import estimate_seconds
 from .paper_grid import Column, Row
 
 log = logging.getLogger("inkbsdf.figures")
@@ -131,15 +130,28 @@ def plan_cells(rows, columns, settings: FigureSettings) -> list[CellPlan]:
     return plans
 
 
-def estimates(plans, opts: BuildOptions) -> list[float]:
-    """Seconds each cell is expected to take: 0 for a cached table or a failed plan."""
-    out = []
-    for plan in plans:
-        if plan.request is None or opts.cache.table_path(plan.request).exists():
-            out.append(0.0)
-        else:
-            out.append(estimate_seconds(plan.request, opts.workers))
-    return out
+def estimates(plans, opts: BuildOptions) -> list:
+    """What each cell's build needs (`preflight.Estimate`), None for a cached table or a failed
+    plan."""
+    from ..table import preflight
+
+    return [None if plan.request is None or opts.cache.table_path(plan.request).exists()
+            else preflight.estimate(plan.request, opts.workers) for plan in plans]
+
+
+def refuse_what_cannot_fit(figure: str, plans, ests, opts: BuildOptions) -> None:
+    """Before any work: PreflightError when some cell's table cannot fit this machine (unless
+    --force), naming how many and the first."""
+    from ..table import preflight
+
+    refused = [(plan, problems) for plan, est in zip(plans, ests) if est is not None
+               for problems in [preflight.limits_exceeded(est, plan.request, opts.workers, opts.cache.root)]
+               if problems]
+    if refused and not opts.force:
+        plan, problems = refused[0]
+        raise preflight.PreflightError(
+            f"{figure}: {len(refused)} of {len(plans)} cells cannot fit this machine, refused before starting "
+            f"(first: {plan.request.describe()}: {'; '.join(problems)}); use coarser settings, or --force to try anyway")
 
 
 def build_cells(plans, opts: BuildOptions, seconds: list[float], progress: bool = True) -> list[CellResult]:

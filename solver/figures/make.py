@@ -14,7 +14,8 @@ from pathlib import Path
 from ..table.builder import BuildOptions, pooled
 from . import findings
 from .cell_colour import PAPER_ALBEDO, cell_colour, node_errors
-from .cells import CellResult, FigureSettings, build_cells, estimates, plan_cells, failure_reason
+from .cells import (CellResult, FigureSettings, build_cells, estimates, failure_reason, plan_cells,
+                    refuse_what_cannot_fit)
 from .draw import Curve, Panel, compose, draw_grid, draw_spectra
 from .fig6 import crossed_out, figure6
 from .layout import CellGeometry, GridLayout, grid_labels, header_rules
@@ -133,7 +134,9 @@ def make_figure(figure: str, rows, columns, settings: FigureSettings, opts: Buil
     out_png = Path(out_png)
     plans = plan_cells(rows, columns, settings)          # bad settings are refused here, before any work
     opts.cache.check()
-    seconds = estimates(plans, opts)
+    ests = estimates(plans, opts)
+    refuse_what_cannot_fit(figure, plans, ests, opts)
+    seconds = [0.0 if e is None else e.seconds for e in ests]
     cached = sum(1 for p, s in zip(plans, seconds) if p.request is not None
                  and opts.cache.table_path(p.request).exists())
     unplanned = sum(p.request is None for p in plans)

@@ -134,9 +134,9 @@ def _warn_unresolved(request: TableRequest) -> None:
                         request.describe(), layer.particles.diameter_nm, voxel_nm)
 
 
-def check(request: TableRequest, workers: int, cache_root: Path, *, force: bool = False) -> Estimate:
-    """Refuse what cannot fit (unless forced), warn about what will take long; return the estimate."""
-    est = estimate(request, workers)
+def limits_exceeded(est: Estimate, request: TableRequest, workers: int, cache_root: Path) -> list[str]:
+    """What of this machine the estimated build would exceed (memory, the cache's disk); empty
+    when it fits."""
     memory = available_memory_bytes() * MEMORY_SHARE
     need = est.worker_bytes * max(1, workers if not request.molecular else 1)
     problems = []
@@ -149,6 +149,13 @@ def check(request: TableRequest, workers: int, cache_root: Path, *, force: bool 
         free = math.inf
     if est.table_bytes > free:
         problems.append(f"the table is ≈ {_size(est.table_bytes)}, the cache's disk has {_size(free)} free")
+    return problems
+
+
+def check(request: TableRequest, workers: int, cache_root: Path, *, force: bool = False) -> Estimate:
+    """Refuse what cannot fit (unless forced), warn about what will take long; return the estimate."""
+    est = estimate(request, workers)
+    problems = limits_exceeded(est, request, workers, cache_root)
     if problems and not force:
         raise PreflightError(f"{request.describe()}: refused before starting: " + "; ".join(problems)
                              + " (estimate: " + est.describe() + "; use coarser settings, or --force to try anyway)")
