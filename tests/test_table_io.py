@@ -128,3 +128,15 @@ def test_energy_from_below_allows_the_standard_errors(tmp_path, table):
     quiet = {"Rbar_below": np.full_like(below, 0.001), "Tbar": np.full_like(below, 0.001)}
     with pytest.raises(TableError, match="beyond 2 standard errors"):
         write_table(tmp_path / "bad.npz", replace(table, Rbar_below=below, errors=quiet))  # 0.01 > 2 × 0.002
+
+
+@pytest.mark.parametrize("content, kind", [(b"plain text\n", "not a zip archive"),
+                                           (b"\x89PNG\r\n\x1a\n" + bytes(20), "a PNG image"),
+                                           (b"", "empty")])
+def test_non_table_files_say_what_they_are(tmp_path, content, kind):
+    """Never np.load's advice to load pickles: the message says what the file is."""
+    path = tmp_path / "x.npz"
+    path.write_bytes(content)
+    with pytest.raises(TableError) as info:
+        read_table(path)
+    assert kind in str(info.value) and "pickle" not in str(info.value)

@@ -60,6 +60,11 @@ def main(argv: list[str] | None = None) -> int:
     except BrokenPipeError:                     # e.g. `ink-tables show t.npz | head`
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
+    except MemoryError as exc:                  # e.g. a build forced past the preflight's estimate
+        first = str(exc).splitlines()[0] if str(exc) else "out of memory"
+        print(f"{prefix}: error: ran out of memory ({first}); use coarser settings (--grid, --wavelengths, "
+              "--angles) or fewer --workers", file=sys.stderr)
+        return 1
     except ValueError as exc:                   # bad input: requests, specs, tables, the cache
         print(f"{prefix}: error: {exc}", file=sys.stderr)
         return 2

@@ -257,6 +257,13 @@ def read_table(path) -> InkTable:
         raise TableError(f"{where}: table file not found")
     try:
         raw = path.read_bytes()
+    except OSError as exc:
+        raise TableError(f"{where}: cannot read the table ({exc.strerror})") from None
+    if not raw.startswith(b"PK"):                     # not a zip: np.load would talk of pickles
+        kind = ("empty" if not raw else "a PNG image" if raw.startswith(b"\x89PNG") else
+                "a single NumPy array (.npy)" if raw.startswith(b"\x93NUMPY") else "not a zip archive")
+        raise TableError(f"{where}: not an ink table (.npz, written by `ink-tables build`): the file is {kind}")
+    try:
         with np.load(io.BytesIO(raw), allow_pickle=False) as npz:
             data = {k: npz[k] for k in npz.files}
     except (zipfile.BadZipFile, EOFError, OSError, ValueError) as exc:
