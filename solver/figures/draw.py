@@ -121,7 +121,9 @@ def draw_spectra(panels: list[Panel], title: str, caption: str, path, ylabel: st
     for ax in list(axes.flat)[n:]:
         ax.axis("off")
     fig.suptitle(title)
-    fig.text(0.5, 0.01, "\n".join(textwrap.wrap(caption, 150)), ha="center", va="bottom", fontsize=7.5)
+    # ~ 15 characters of 7.5-pt text per inch of figure width: wrap to fit one panel or several
+    fig.text(0.5, 0.01, "\n".join(textwrap.wrap(caption, int(15 * 6.0 * cols))), ha="center", va="bottom",
+             fontsize=7.5)
     fig.tight_layout(rect=(0, 0.06, 1, 0.97))
     fig.savefig(path, dpi=110)
     plt.close(fig)
