@@ -29,6 +29,9 @@ SOLVE_BYTES_PER_VOXEL = 620.0
 #: wave solve time per operator application per voxel·log2(voxels), and applications per solve
 SECONDS_PER_VOXEL_LOG = 3e-9
 APPLICATIONS_PER_SOLVE = 15
+#: a rough top's solves (above and below) converge slowly: 78.8 applications per solve pair
+#: against 2 × 14.0 for the flat layer (R15, 300-nm spheres, default preset, Fig. 7 run)
+ROUGH_TOP_SOLVE_FACTOR = 2.8
 #: thin-film tier: seconds per (wavelength × angle), measured 0.2 s for 41 × 1000
 MOLECULAR_SECONDS_PER_SAMPLE = 5e-6
 #: grains smaller than this share of a voxel are only an average of the voxels they touch
@@ -110,7 +113,9 @@ def estimate(request: TableRequest, workers: int = 1) -> Estimate:
     geometry_bytes = max((c.peak_bytes for c in geoms), default=0)
     solve_bytes = SOLVE_BASE_BYTES + SOLVE_BYTES_PER_VOXEL * voxels
     solves = w.realizations * nl * int(g.solved_mask.sum()) * w.azimuths * (2 if needs_below(request) else 1)
-    seconds = (geometry_s * w.realizations + solves * solve_seconds(w.grid)) / max(1, workers)
+    rough = any(layer.particles is not None and layer.particles.rough_top > 0 for layer in request.layers)
+    per_solve = solve_seconds(w.grid) * (ROUGH_TOP_SOLVE_FACTOR if rough else 1.0)
+    seconds = (geometry_s * w.realizations + solves * per_solve) / max(1, workers)
     return Estimate(int(table), int(max(solve_bytes, geometry_bytes) + 3 * table), int(grains),
                     int(solves), float(seconds))
 
