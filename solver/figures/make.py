@@ -9,6 +9,7 @@ from __future__ import annotations
 import dataclasses
 import logging
 from dataclasses import dataclass
+import time
 from pathlib import Path
 
 from ..table.builder import BuildOptions, pooled
@@ -132,6 +133,7 @@ def make_figure(figure: str, rows, columns, settings: FigureSettings, opts: Buil
                 report_path=None, echo=print) -> FigureOutput:
     """Build every cell (cached, resumable), draw the figure, write OUT.csv (and the report)."""
     out_png = Path(out_png)
+    started = time.perf_counter()
     plans = plan_cells(rows, columns, settings)          # bad settings are refused here, before any work
     opts.cache.check()
     ests = estimates(plans, opts)
@@ -161,7 +163,8 @@ def make_figure(figure: str, rows, columns, settings: FigureSettings, opts: Buil
     failed = [r for r in records if not r.ok]
     built = sum(r.computed for r in records)
     echo(f"wrote {out_png} and {csv_path}" + (f" and {report}" if report else "")
-         + f": {len(records) - len(failed)} cells drawn ({built} computed now), {len(failed)} failed")
+         + f": {len(records) - len(failed)} cells drawn ({built} computed now), {len(failed)} failed, "
+         + f"in {duration(time.perf_counter() - started)}")
     for r in failed:
         echo(f"  failed: {r.ink} × {r.grains}: {r.reason}")
     return FigureOutput(out_png, csv_path, report, records)
