@@ -115,7 +115,9 @@ def test_tiny_fig7_layout_csv_and_cache_hits(tmp_path, monkeypatch):
     np.testing.assert_array_equal(read_png(again), image)
 
 
-def test_failing_cell_is_crossed_out_not_dropped(tmp_path, monkeypatch, capsys):
+@pytest.fixture()
+def particle_tables_fail(monkeypatch):
+    """Every particle table's build raises (molecular ones build as usual)."""
     real = cells_mod.get_or_build
 
     def flaky(request, opts):
@@ -124,6 +126,9 @@ def test_failing_cell_is_crossed_out_not_dropped(tmp_path, monkeypatch, capsys):
         return real(request, opts)
 
     monkeypatch.setattr(cells_mod, "get_or_build", flaky)
+
+
+def test_failing_cell_is_crossed_out_not_dropped(tmp_path, particle_tables_fail, capsys):
     out = run_fig7(tmp_path, status=1)                      # drawn, and the run says it failed
     rows = read_rows(out.with_suffix(".csv"))
     assert [r["status"] for r in rows] == ["ok", "failed", "failed"]
@@ -239,17 +244,9 @@ def test_unreachable_across_cell_says_why():
     assert plans[1].request is not None
 
 
-def test_a_cell_that_fails_to_build_makes_the_run_fail(tmp_path, monkeypatch, capsys):
+def test_a_cell_that_fails_to_build_makes_the_run_fail(tmp_path, particle_tables_fail, capsys):
     """Cells that cannot exist are part of a complete figure (exit 0); a table that failed to
     build is a failed run (exit 1), after drawing what it could."""
-    real = cells_mod.get_or_build
-
-    def flaky(request, opts):
-        if not request.molecular:
-            raise RuntimeError("solver diverged")
-        return real(request, opts)
-
-    monkeypatch.setattr(cells_mod, "get_or_build", flaky)
     out = tmp_path / "f9.png"
     status, _, _ = run_main(main, ["paper", "fig9", "--rows", "G15", "--columns", "molecular,sphere:300",
                                    "--no-progress", "--cache", tmp_path / "cache", "-o", out], capsys)
