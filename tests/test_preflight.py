@@ -99,3 +99,16 @@ def test_scene_ink_gets_the_same_check(use_variant, tmp_path):
                       "cache": str(tmp_path / "c")})
     with pytest.raises(Exception, match="'force' must be a boolean"):
         mi.load_dict({"type": "ink", "ink": "R15", "force": "yes", "cache": str(tmp_path / "c")})
+
+
+def test_a_long_geometry_unit_is_announced_with_its_estimate(tmp_path, caplog, monkeypatch):
+    """A geometry unit's bar moves only when a realization is done: a long one says up front
+    how long it will take (the estimate), so a silent bar is not mistaken for a hang."""
+    from solver.table import builder
+
+    monkeypatch.setattr(builder, "GEOMETRY_NOTE_S", 0.0)
+    request = table_request("R15", "sphere:300", grid=(16, 16, 8), realizations=1)
+    opts = BuildOptions(cache=TableCache(tmp_path / "c"), workers=1, progress=False)
+    with caplog.at_level(logging.INFO, logger="inkbsdf.tables"):
+        builder._geometry(request, opts, builder._Timer())
+    assert "per realization (estimate" in caplog.text and "grains" in caplog.text
