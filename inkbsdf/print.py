@@ -20,7 +20,7 @@ import sys
 import warnings
 from pathlib import Path
 
-from solver.cli.parsing import DefaultsFormatter, OneLineParser
+from solver.cli.parsing import DefaultsFormatter, OneLineParser, writable_output
 
 MARGIN_CM = 1.5                     # white paper around the print on its sheet
 SHEEN_UV = (0.84, 0.17)             # where the softbox's mirror image lands, fraction of the sheet
@@ -140,16 +140,11 @@ def main(argv=None) -> int:
 
 
 def _main(argv) -> int:
-    from inkbsdf.render import UsageError as RenderUsageError
-    from inkbsdf.render import check_output
     from solver.separation import DotsError, print_image, printed_inks, read_srgb8, write_textures
 
     args = build_parser().parse_args(argv)
     settings = settings_from(args)
-    try:
-        output = check_output(args.output, ".xml", "-o/--output")
-    except RenderUsageError as exc:
-        raise UsageError(str(exc)) from None
+    output = writable_output(args.output, ".xml", "-o/--output")
     rgb8 = read_srgb8(args.image)
     try:
         grid = settings.grid(rgb8.shape[:2])

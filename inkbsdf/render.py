@@ -157,14 +157,6 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
-def check_output(path, suffix: str, option: str) -> Path:
-    """An output file that can be written (solver.cli.parsing.writable_output), else UsageError."""
-    try:
-        return writable_output(path, suffix, option)
-    except ValueError as exc:
-        raise UsageError(str(exc)) from None
-
-
 def _print_warning(message, category, filename, lineno, file=None, line=None):
     print(f"warning: {message}", file=sys.stderr)
 
@@ -188,9 +180,9 @@ def _main(argv) -> int:
     from .variant import VariantError, select_variant
 
     args = build_parser().parse_args(argv)
-    outputs = [check_output(args.output, ".exr", "-o/--output")]
+    outputs = [writable_output(args.output, ".exr", "-o/--output")]
     if args.png:
-        outputs.append(check_output(args.png, ".png", "--png"))
+        outputs.append(writable_output(args.png, ".png", "--png"))
     if len(set(p.absolute() for p in outputs)) < len(outputs):
         raise UsageError("-o/--output and --png name the same file")
     if not Path(args.scene).is_file():

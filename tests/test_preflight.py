@@ -104,11 +104,15 @@ def test_scene_ink_gets_the_same_check(use_variant, tmp_path):
 def test_a_long_geometry_unit_is_announced_with_its_estimate(tmp_path, caplog, monkeypatch):
     """A geometry unit's bar moves only when a realization is done: a long one says up front
     how long it will take (the estimate), so a silent bar is not mistaken for a hang."""
-    from solver.table import builder
-
-    monkeypatch.setattr(builder, "GEOMETRY_NOTE_S", 0.0)
     request = table_request("R15", "sphere:300", grid=(16, 16, 8), realizations=1)
-    opts = BuildOptions(cache=TableCache(tmp_path / "c"), workers=1, progress=False)
+    est = preflight.estimate(request, 1)
+    assert est.geometry_seconds > 0
+    monkeypatch.setattr(preflight, "GEOMETRY_NOTE_S", 0.5 * est.geometry_seconds)
     with caplog.at_level(logging.INFO, logger="inkbsdf.tables"):
-        builder._geometry(request, opts, builder._Timer())
-    assert "per realization (estimate" in caplog.text and "grains" in caplog.text
+        preflight.check(request, 1, tmp_path)
+    assert "per realization (estimate" in caplog.text and f"{est.grains:,} grains" in caplog.text
+    caplog.clear()
+    monkeypatch.setattr(preflight, "GEOMETRY_NOTE_S", 2.0 * est.geometry_seconds)
+    with caplog.at_level(logging.INFO, logger="inkbsdf.tables"):
+        preflight.check(request, 1, tmp_path)
+    assert "per realization" not in caplog.text

@@ -10,7 +10,6 @@ what each figure and each CSV column shows.
 
 from __future__ import annotations
 
-
 from ..figures import FIGURES, FigureSettings, make_figure, parse_columns, parse_rows
 from ..table.request import ACCURACY, TIERS, uniform_angles, wavelength_range
 from .build import add_run_arguments, options_from_args

@@ -144,10 +144,14 @@ def refuse_what_cannot_fit(figure: str, plans, ests, opts: BuildOptions) -> None
     --force), naming how many and the first."""
     from ..table import preflight
 
-    refused = [(plan, problems) for plan, est in zip(plans, ests) if est is not None
-               for problems in [preflight.limits_exceeded(est, plan.request, opts.workers, opts.cache.root)]
-               if problems]
-    if refused and not opts.force:
+    if opts.force:
+        return
+    refused = []
+    for plan, est in zip(plans, ests):
+        problems = [] if est is None else preflight.limits_exceeded(est, plan.request, opts.workers, opts.cache.root)
+        if problems:
+            refused.append((plan, problems))
+    if refused:
         plan, problems = refused[0]
         raise preflight.PreflightError(
             f"{figure}: {len(refused)} of {len(plans)} cells cannot fit this machine, refused before starting "

@@ -8,8 +8,8 @@ from __future__ import annotations
 
 import dataclasses
 import logging
-from dataclasses import dataclass
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 from ..table.builder import BuildOptions, pooled
@@ -139,8 +139,7 @@ def make_figure(figure: str, rows, columns, settings: FigureSettings, opts: Buil
     ests = estimates(plans, opts)
     refuse_what_cannot_fit(figure, plans, ests, opts)
     seconds = [0.0 if e is None else e.seconds for e in ests]
-    cached = sum(1 for p, s in zip(plans, seconds) if p.request is not None
-                 and opts.cache.table_path(p.request).exists())
+    cached = sum(p.request is not None and e is None for p, e in zip(plans, ests))   # None: in the cache
     unplanned = sum(p.request is None for p in plans)
     where = f"on {opts.scheduler}" if opts.scheduler else f"with {opts.workers} worker(s)"
     echo(f"{figure}: {len(rows)} × {len(columns)} = {len(plans)} cells, {cached} in the cache, "

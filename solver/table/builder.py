@@ -93,22 +93,10 @@ def _cached_units(request, opts, names, make_unit, fn, encode, decode, desc):
     return results
 
 
-#: a geometry unit expected to take longer than this (s) is announced with its estimate: its bar
-#: moves only when a whole realization is done
-GEOMETRY_NOTE_S = 20.0
-
-
 def _geometry(request, opts, timer, realizations=None):
-    from ..geometry import geometry_cost
-    from .wave_tier import GeometryUnit, geometry_unit, layer_spec
+    from .wave_tier import GeometryUnit, geometry_unit
 
     rs = list(range(request.wave.realizations) if realizations is None else realizations)
-    costs = [geometry_cost(layer_spec(request, i), request.wave.grid)
-             for i, layer in enumerate(request.layers) if layer.particles is not None]
-    each = sum(c.seconds for c in costs)
-    if each > GEOMETRY_NOTE_S:
-        log.info("geometry: ≈ %.0f s per realization (estimate: %s grains), %d realization(s) on %d worker(s)",
-                 each, f"{sum(c.grains for c in costs):,}", len(rs), opts.workers)
     t0 = time.perf_counter()
     out = _cached_units(request, opts, [f"geom_r{r}" for r in rs],
                         lambda k: GeometryUnit(request, rs[k]), geometry_unit,

@@ -36,6 +36,9 @@ ROUGH_TOP_SOLVE_FACTOR = 2.8
 MOLECULAR_SECONDS_PER_SAMPLE = 5e-6
 #: grains smaller than this share of a voxel are only an average of the voxels they touch
 UNRESOLVED_GRAIN_SHARE = 0.5
+#: a realization's geometry expected to take longer than this (s) is announced with its
+#: estimate: the geometry bar moves only when a whole realization is done
+GEOMETRY_NOTE_S = 20.0
 #: a build warns when it is expected to take longer than this
 LONG_BUILD_S = 600.0
 #: share of the available memory / free disk a build may plan to use
@@ -53,6 +56,7 @@ class Estimate:
     grains: int               # grains per realization (0 for a molecular ink)
     solves: int               # wave solves of the whole build
     seconds: float            # rough wall time with the given workers
+    geometry_seconds: float = 0.0   # one realization's geometry (generate + voxelize)
 
     def describe(self) -> str:
         parts = [f"table {_size(self.table_bytes)}", f"{_size(self.worker_bytes)} per worker"]
@@ -101,7 +105,7 @@ def estimate(request: TableRequest, workers: int = 1) -> Estimate:
         work = 40e6 + 6 * table
         return Estimate(int(table), int(work), 0, 0, MOLECULAR_SECONDS_PER_SAMPLE * nl * ns)
     from ..geometry import geometry_cost
-    from .wave_tier import layer_spec, needs_below
+    from .wave_tier import has_rough_top, layer_spec, needs_below
 
     w = request.wave
     table = 2 * nl * ns * ns * g.dphi_count * 8 + 2 * columns          # R and its errors
@@ -113,11 +117,10 @@ def estimate(request: TableRequest, workers: int = 1) -> Estimate:
     geometry_bytes = max((c.peak_bytes for c in geoms), default=0)
     solve_bytes = SOLVE_BASE_BYTES + SOLVE_BYTES_PER_VOXEL * voxels
     solves = w.realizations * nl * int(g.solved_mask.sum()) * w.azimuths * (2 if needs_below(request) else 1)
-    rough = any(layer.particles is not None and layer.particles.rough_top > 0 for layer in request.layers)
-    per_solve = solve_seconds(w.grid) * (ROUGH_TOP_SOLVE_FACTOR if rough else 1.0)
+    per_solve = solve_seconds(w.grid) * (ROUGH_TOP_SOLVE_FACTOR if has_rough_top(request) else 1.0)
     seconds = (geometry_s * w.realizations + solves * per_solve) / max(1, workers)
     return Estimate(int(table), int(max(solve_bytes, geometry_bytes) + 3 * table), int(grains),
-                    int(solves), float(seconds))
+                    int(solves), float(seconds), float(geometry_s))
 
 
 def solve_seconds(grid: tuple[int, int, int]) -> float:
@@ -165,6 +168,9 @@ def check(request: TableRequest, workers: int, cache_root: Path, *, force: bool 
         raise PreflightError(f"{request.describe()}: refused before starting: " + "; ".join(problems)
                              + " (estimate: " + est.describe() + "; use coarser settings, or --force to try anyway)")
     _warn_unresolved(request)
+    if est.geometry_seconds > GEOMETRY_NOTE_S:
+        log.info("geometry: ≈ %.0f s per realization (estimate: %s grains), %d realization(s) on %d worker(s)",
+                 est.geometry_seconds, f"{est.grains:,}", request.wave.realizations, workers)
     if est.seconds > LONG_BUILD_S:
         log.warning("%s will take long: %s", request.describe(), est.describe())
     return est
