@@ -77,15 +77,23 @@ def _critical_angle(radius_nm: float, length_nm: float, half_height_nm: float) -
     return lo
 
 
-def geometric_limit(layer: LayerSpec) -> float:
-    """Rigorous-geometry bound (times the packer's share of it) where one applies, else 1."""
+def _one_tier_cylinders(layer: LayerSpec) -> tuple[float, float] | None:
+    """(radius, length) nm of vertical cylinders too long to stack two in the layer (flat top),
+    None for any other layer."""
     spec = layer.particles
     if not (spec.shape == "cylinder" and spec.orientation == "vertical" and spec.rough_top == 0):
-        return 1.0
+        return None
     r, length = cylinder_radius_length(spec.diameter_nm * math.exp(-3.0 * spec.size_spread))
-    if length <= 0.5 * layer.thickness_nm:
+    return None if length <= 0.5 * layer.thickness_nm else (r, length)
+
+
+def geometric_limit(layer: LayerSpec) -> float:
+    """Rigorous-geometry bound (times the packer's share of it) where one applies, else 1."""
+    one_tier = _one_tier_cylinders(layer)
+    if one_tier is None:
         return 1.0
-    tilt = spec.tilt_rad
+    r, length = one_tier
+    tilt = layer.particles.tilt_rad
     if tilt == 0:
         share, mean_sec = 1.0, 1.0
     else:
@@ -100,13 +108,8 @@ def aligned_column_bound(layer: LayerSpec) -> float | None:
     """The fraction aligned vertical cylinders fill when hexagonally packed, one per column (a
     rigorous upper bound for them: too long to stack two in the layer), None where that does
     not apply (other shapes, or cylinders that stack)."""
-    spec = layer.particles
-    if not (spec.shape == "cylinder" and spec.orientation == "vertical" and spec.rough_top == 0):
-        return None
-    _, length = cylinder_radius_length(spec.diameter_nm * math.exp(-3.0 * spec.size_spread))
-    if length <= 0.5 * layer.thickness_nm:
-        return None
-    return DISC_PACKING * length / layer.thickness_nm
+    one_tier = _one_tier_cylinders(layer)
+    return None if one_tier is None else DISC_PACKING * one_tier[1] / layer.thickness_nm
 
 
 def reachable_limit(layer: LayerSpec) -> float:

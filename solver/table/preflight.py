@@ -105,7 +105,7 @@ def estimate(request: TableRequest, workers: int = 1) -> Estimate:
         work = 40e6 + 6 * table
         return Estimate(int(table), int(work), 0, 0, MOLECULAR_SECONDS_PER_SAMPLE * nl * ns)
     from ..geometry import geometry_cost
-    from .wave_tier import has_rough_top, layer_spec, needs_below
+    from .wave_tier import layer_spec, needs_below
 
     w = request.wave
     table = 2 * nl * ns * ns * g.dphi_count * 8 + 2 * columns          # R and its errors
@@ -117,7 +117,7 @@ def estimate(request: TableRequest, workers: int = 1) -> Estimate:
     geometry_bytes = max((c.peak_bytes for c in geoms), default=0)
     solve_bytes = SOLVE_BASE_BYTES + SOLVE_BYTES_PER_VOXEL * voxels
     solves = w.realizations * nl * int(g.solved_mask.sum()) * w.azimuths * (2 if needs_below(request) else 1)
-    per_solve = solve_seconds(w.grid) * (ROUGH_TOP_SOLVE_FACTOR if has_rough_top(request) else 1.0)
+    per_solve = solve_seconds(w.grid) * (ROUGH_TOP_SOLVE_FACTOR if request.has_rough_top else 1.0)
     seconds = (geometry_s * w.realizations + solves * per_solve) / max(1, workers)
     return Estimate(int(table), int(max(solve_bytes, geometry_bytes) + 3 * table), int(grains),
                     int(solves), float(seconds), float(geometry_s))

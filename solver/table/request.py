@@ -159,6 +159,11 @@ class TableRequest:
         return all(layer.molecular for layer in self.layers)
 
     @property
+    def has_rough_top(self) -> bool:
+        """Whether some particle layer's grains may stand out of the binder."""
+        return any(layer.particles is not None and layer.particles.rough_top > 0 for layer in self.layers)
+
+    @property
     def layer(self) -> Layer:
         if len(self.layers) != 1:
             raise RequestError(f"{self.ink_label} is a stack of {len(self.layers)} layers")
@@ -380,7 +385,7 @@ def validate(req: TableRequest) -> None:
         return
     w = req.wave
     if len(req.layers) > 1:
-        if any(layer.particles is not None and layer.particles.rough_top > 0 for layer in req.layers):
+        if req.has_rough_top:
             raise RequestError(f"--particles {req.particles_label}: a rough top inside a stack is not modelled; "
                                "give the stacked particle layers flat faces")
         try:

@@ -69,15 +69,10 @@ def layer_spec(request: TableRequest, index: int = 0) -> LayerSpec:
                      cell_nm=(request.wave.cell_nm, request.wave.cell_nm))
 
 
-def has_rough_top(request: TableRequest) -> bool:
-    """Whether some particle layer's grains may stand out of the binder."""
-    return any(layer.particles is not None and layer.particles.rough_top > 0 for layer in request.layers)
-
-
 def needs_below(request: TableRequest) -> bool:
     """A rough top or a stack of different layers breaks the up-down symmetry: Rbar_below is
     then solved from below, with the same operator."""
-    return len(request.layers) > 1 or has_rough_top(request)
+    return len(request.layers) > 1 or request.has_rough_top
 
 
 def nominal_eps(request: TableRequest, wavelength_nm: float) -> complex:
