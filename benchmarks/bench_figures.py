@@ -140,20 +140,18 @@ def preset_errors() -> None:
     cache = TableCache(OUT / "presets_cache")
     print(f"   {'cell':32s} " + "  ".join(f"{a:>22s}" for a in ACCURACY) + "   fine SE (L*, a*, b*)")
     for ink, particles in PRESET_CELLS:
-        labs, times = {}, {}
+        colours, times = {}, {}
         for accuracy in reversed(ACCURACY):
             t0 = time.perf_counter()
             table, _, built = get_or_build(table_request(ink, particles, accuracy=accuracy),
                                            BuildOptions(workers=2, progress=False, cache=cache))
             times[accuracy] = (time.perf_counter() - t0 if built
                                else sum(table.meta.get("timings_s", {}).values()))
-            colour = cell_colour(table)
-            labs[accuracy], se = colour.lab, (colour.se if accuracy == "fine" else None)
-            if accuracy == "fine":
-                fine_se = se
-        cells = [f"ΔE {float(delta_e2000(labs[a], labs['fine'])):5.2f}, {times[a]:6.0f} s" for a in ACCURACY]
+            colours[accuracy] = cell_colour(table)
+        fine = colours["fine"]
+        cells = [f"ΔE {float(delta_e2000(colours[a].lab, fine.lab)):5.2f}, {times[a]:6.0f} s" for a in ACCURACY]
         print(f"   {ink + ' ' + particles:32s} " + "  ".join(f"{c:>22s}" for c in cells)
-              + "   " + " ".join(f"{v:.2f}" for v in fine_se), flush=True)
+              + "   " + " ".join(f"{v:.2f}" for v in fine.se), flush=True)
 
 
 def fig7_preview() -> None:
