@@ -176,7 +176,7 @@ def stack_lut(members) -> InkLUT:
         # stacked geometry, at the accuracy of the first particle ink
         accuracy = next((req.accuracy for req in requests if not req.molecular), "default")
         stack = make_request(layers, polarisation=requests[0].polarisation, materials=requests[0].materials,
-                             accuracy=accuracy)
+                             accuracy=accuracy, local_field=requests[0].local_field)
     except TableError:
         raise
     except ValueError as exc:

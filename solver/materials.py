@@ -68,38 +68,61 @@ def base_parts(code: str) -> tuple[tuple[str, float], ...]:
     return get_pigment(code).parts or ((code, 1.0),)
 
 
-def local_field_eps(eps_particle, eps_host):
-    """ε' = ε_h + 3ε_h(ε_p − ε_h)/(ε_p + 2ε_h): the permittivity whose scalar contrast equals the
-    dipole response of a small sphere ε_p in a host ε_h (the field inside it is 3ε_h/(ε_p + 2ε_h)
-    times the outside one).  Exact for spheres small against the wavelength in the pigment
-    (docs/vector_referee.md: what it does to the colour against Maxwell's equations)."""
-    return eps_host + 3 * eps_host * (eps_particle - eps_host) / (eps_particle + 2 * eps_host)
+@dataclass(frozen=True)
+class LocalField:
+    """How a pigment grain polarises in the binder: pairs (w, L) of field weight and
+    depolarisation factor along the grain's principal axes (Σ w = 1).  A sphere (or a dissolved
+    molecule in its Lorentz cavity) has one pair (1, 1/3); a cylinder's come from its shape and
+    orientation (`solver.geometry.depolarisation`)."""
+
+    pairs: tuple[tuple[float, float], ...] = ((1.0, 1.0 / 3.0),)
+
+    def __post_init__(self):
+        if not self.pairs or abs(sum(w for w, _ in self.pairs) - 1.0) > 1e-9 \
+                or any(not (0.0 <= L <= 1.0) or w < 0 for w, L in self.pairs):
+            raise ValueError(f"local-field pairs need weights summing to 1 and 0 ≤ L ≤ 1, got {self.pairs}")
+
+
+#: a sphere's (and a dissolved molecule's Lorentz cavity's) local field
+SPHERE_FIELD = LocalField()
+
+
+def local_field_eps(eps_particle, eps_host, field: LocalField = SPHERE_FIELD):
+    """ε' = ε_h + Σ_j w_j ε_h(ε_p − ε_h)/(ε_h + L_j(ε_p − ε_h)): the permittivity whose scalar
+    contrast equals the dipole response of a small grain ε_p in a host ε_h (the field inside it
+    along axis j is ε_h/(ε_h + L_j(ε_p − ε_h)) times the outside one).  For a sphere (L = 1/3)
+    ε' = ε_h + 3ε_h(ε_p − ε_h)/(ε_p + 2ε_h).  Exact for grains small against the wavelength in
+    the pigment (docs/polarisation.md: the model and what it does to the colour against
+    Maxwell's equations)."""
+    contrast = eps_particle - eps_host
+    return eps_host + sum(w * eps_host * contrast / (eps_host + L * contrast) for w, L in field.pairs)
 
 
 @dataclass(frozen=True, eq=False)
 class MaterialData:
     """Binder and pigment constants and k(λ) spectra; `fingerprint` identifies the numbers.
 
-    local_field: pigments enter as grains in the binder with their local-field permittivity
-    (`local_field_eps`); off for molecular inks (dissolved pigment)."""
+    local_field: None (pigments enter with their bulk ε: the paper's volume mix) or how the
+    pigment polarises in the binder (`LocalField`): pigments then enter with `local_field_eps`.
+    A request gives each layer its own (`TableRequest.layer_materials`)."""
 
     binder_index: float
     pigment_real_index: float
     wavelengths_nm: np.ndarray = field(repr=False)          # [n] strictly increasing
     k: dict = field(repr=False)                             # base code → k [n]
     source: str = "package data"
-    local_field: bool = False
+    local_field: LocalField | None = None
 
-    def with_local_field(self) -> "MaterialData":
-        return dataclasses.replace(self, local_field=True)
+    def with_local_field(self, field: LocalField = SPHERE_FIELD) -> "MaterialData":
+        return dataclasses.replace(self, local_field=field)
 
     @property
     def fingerprint(self) -> str:
         h = hashlib.sha256()
         h.update(repr((float(self.binder_index), float(self.pigment_real_index),
                        sorted((c, p.parts) for c, p in PIGMENTS.items()))).encode())
-        if self.local_field:
-            h.update(b"local-field pigments")
+        if self.local_field is not None:
+            h.update(repr(("local field", self.local_field.pairs)).encode())
         h.update(np.ascontiguousarray(self.wavelengths_nm, dtype=np.float64).tobytes())
         for code in sorted(self.k):
             h.update(code.encode() + np.ascontiguousarray(self.k[code], dtype=np.float64).tobytes())
@@ -137,7 +160,9 @@ class MaterialData:
         """Relative permittivity ε = η² of a pigment (mixes ε-weighted) at λ in nm; with
         local_field, the local-field permittivity of its grains in the binder."""
         eps = self._bulk_eps(code, wavelength_nm)      # a G grain: the Y–B mix, then its local field
-        return local_field_eps(eps, self.binder_eps(wavelength_nm)) if self.local_field else eps
+        if self.local_field is None:
+            return eps
+        return local_field_eps(eps, self.binder_eps(wavelength_nm), self.local_field)
 
     def _bulk_eps(self, code: str, wavelength_nm) -> np.ndarray:
         pig = get_pigment(code)

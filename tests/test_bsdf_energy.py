@@ -105,4 +105,4 @@ def test_energy_at_most_one(use_variant, tmp_path, ink):
         for deg in (0.0, 45.0, 85.0):
             mean, err = sampled_albedo(mi, bsdf, deg, lam)
             assert mean <= 1.0 + 4.5 * err + 1e-4
-            assert mean > 0.05
+            assert mean > 0.04        # the binder face alone reflects 0.048 at 0°, more obliquely

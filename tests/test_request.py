@@ -140,17 +140,35 @@ def test_stacks_parse_into_layers():
         table_request("Y15/B15", thickness_nm=(800.0, 900.0, 1000.0))
 
 
-def test_local_field_is_part_of_the_request_and_of_the_materials():
+def test_local_field_default_follows_the_polarisation_and_is_in_the_key():
     from solver.materials import local_field_eps
 
-    plain, lf = table_request("G15", "sphere:100"), table_request("G15", "sphere:100", local_field=True)
-    assert lf.key() != plain.key() and lf.materials.fingerprint != plain.materials.fingerprint
+    lf, plain = table_request("G15", "sphere:100"), table_request("G15", "sphere:100", local_field=False)
+    te = table_request("G15", "sphere:100", polarisation="te")
+    assert lf.local_field and not plain.local_field and not te.local_field     # te: the paper's model
+    assert lf.key() != plain.key() and lf.materials == plain.materials          # bulk data, one fingerprint
+    assert table_request("G15", "sphere:100", polarisation="te", local_field=True).local_field
     wl = np.array([450.0, 600.0])
-    binder = plain.materials.binder_eps(wl)
-    # a G grain is the molecular Y–B mix, corrected once as a grain
-    want = local_field_eps(0.5 * (plain.materials.pigment_eps("Y", wl) + plain.materials.pigment_eps("B", wl)), binder)
-    np.testing.assert_allclose(lf.materials.pigment_eps("G", wl), want, rtol=1e-12)
-    with pytest.raises(RequestError, match="--local-field"):
-        table_request("Y15/B15", "sphere:100/molecular", local_field=True)
+    bulk = plain.materials
+    binder = bulk.binder_eps(wl)
+    # a G grain is the molecular Y–B mix, corrected once as a grain (a sphere: L = 1/3)
+    want = local_field_eps(0.5 * (bulk.pigment_eps("Y", wl) + bulk.pigment_eps("B", wl)), binder)
+    np.testing.assert_allclose(lf.layer_materials().pigment_eps("G", wl), want, rtol=1e-12)
+    np.testing.assert_allclose(plain.layer_materials().pigment_eps("G", wl),
+                               0.5 * (bulk.pigment_eps("Y", wl) + bulk.pigment_eps("B", wl)), rtol=1e-12)
     with pytest.raises(RequestError, match="--local-field"):
         table_request("G15", "sphere:100", local_field="yes")
+
+
+def test_local_field_of_each_layer_of_a_stack():
+    """Every layer gets its own grains' local field; dissolved pigment the Lorentz sphere's."""
+    from solver.geometry.depolarisation import local_field_of
+    from solver.materials import SPHERE_FIELD
+
+    req = table_request("Y15/Y15/B15", "cylinder:100:vertical/sphere:100/molecular", grid=(16, 16, 12))
+    fields = [req.layer_materials(i).local_field for i in range(3)]
+    assert fields[1] == fields[2] == SPHERE_FIELD
+    assert fields[0] == local_field_of(req.layers[0].particles) != SPHERE_FIELD
+    wl = np.array([450.0])
+    y = [req.layer_materials(i).pigment_eps("Y", wl)[0] for i in range(2)]
+    assert y[0] != y[1]

@@ -15,6 +15,7 @@ from conftest import process_group
 from oracles import reference_eval
 from solver.geometry import VoxelFractions, eps_grid
 from solver.inks import molecular_eps, parse_ink
+from solver.materials import SPHERE_FIELD, default_materials
 from solver.table import read_table
 from solver.table.builder import BuildOptions, build_table, get_or_build
 from solver.table.cache import TableCache
@@ -57,8 +58,8 @@ def test_small_table_equals_direct_solves(tmp_path, polarisation):
     phi = azimuths(req, 0)[0]
     pols = ("te",) if polarisation == "te" else ("te", "tm")
     for li, wl in enumerate(req.grids.wavelengths_nm):
-        cell = Cell(eps_grid(vox, wl), vox.period_nm, vox.z_range_nm)
-        eps_b = complex(molecular_eps(req.layer.ink, wl))
+        cell = Cell(eps_grid(vox, wl, req.layer_materials()), vox.period_nm, vox.z_range_nm)
+        eps_b = complex(molecular_eps(req.layer.ink, wl, req.layer_materials()))
         for si, sigma in enumerate(req.grids.sigma_rad[:-1]):
             direct = [solve(cell, Incidence(wl, sigma, phi), tol=req.wave.solver_tol, eps_background=eps_b,
                             polarisation=p) for p in pols]
@@ -88,8 +89,8 @@ def test_energy_closure_with_independently_computed_absorption(table_and_request
     for r in range(req.wave.realizations):
         vox, phis = geometry_unit(GeometryUnit(req, r)), azimuths(req, r)
         for li, wl in enumerate(req.grids.wavelengths_nm):
-            cell = Cell(eps_grid(vox, wl), vox.period_nm, vox.z_range_nm)
-            eps_b = complex(molecular_eps(req.layer.ink, wl))
+            cell = Cell(eps_grid(vox, wl, req.layer_materials()), vox.period_nm, vox.z_range_nm)
+            eps_b = complex(molecular_eps(req.layer.ink, wl, req.layer_materials()))
             for (k, si), (j, pol) in itertools.product(enumerate(solved), todo):
                 res = solve(cell, Incidence(wl, req.grids.sigma_rad[si], phis[j]), tol=req.wave.solver_tol,
                             eps_background=eps_b, polarisation=("te", "tm")[pol], exact_energy=True)
@@ -137,6 +138,7 @@ def test_molecular_ink_through_the_wave_path_equals_the_exact_tier():
     units = [[solve_unit(SolveUnit(req, 0, li, vox)) for li in range(2)]]
     table = reduce_units(req, units, {"schema_version": 1})
     film = build_thinfilm_table(ink, req.thickness_nm, req.grids.wavelengths_nm, req.grids.sigma_rad,
+                                req.layer_materials(),            # the same ε: the spheres' local field
                                 polarisation=req.polarisation)    # TE and TM faces in the wave path
     for name in ("R_spec", "T_coh", "Rbar", "Tbar"):
         np.testing.assert_allclose(getattr(table, name), getattr(film, name), atol=2e-4)
@@ -144,12 +146,22 @@ def test_molecular_ink_through_the_wave_path_equals_the_exact_tier():
 
 
 def test_molecular_request_is_the_exact_tier(tmp_path):
+    """Unpolarised (default): dissolved pigment with the Lorentz sphere's local field."""
     table, _, built = get_or_build(table_request("Y12.5+B2.5"), opts(tmp_path))
     film = build_thinfilm_table(parse_ink("Y12.5+B2.5"), 1000.0, table.wavelengths, table.sigma,
+                                default_materials().with_local_field(SPHERE_FIELD),
                                 polarisation=table.polarisation)
     assert built and table.meta["tier"] == "thin-film"
     for name in COLUMNS:
         np.testing.assert_array_equal(getattr(table, name), getattr(film, name))
+    te, _, _ = get_or_build(table_request("Y12.5+B2.5", polarisation="te"), opts(tmp_path))
+    film_te = build_thinfilm_table(parse_ink("Y12.5+B2.5"), 1000.0, te.wavelengths, te.sigma,
+                                   polarisation="te")          # the paper's model: bulk ε, volume mix
+    for name in COLUMNS:
+        np.testing.assert_array_equal(getattr(te, name), getattr(film_te, name))
+    # the local field enhances the field inside the (optically thinner) pigment: more absorption
+    plain, _, _ = get_or_build(table_request("Y12.5+B2.5", local_field=False), opts(tmp_path))
+    assert np.all(table.Tbar[:, 0] <= plain.Tbar[:, 0] + 1e-12) and (plain.Tbar - table.Tbar)[:, 0].max() > 0.01
 
 
 def test_cache_hit_computes_nothing(tmp_path, monkeypatch):

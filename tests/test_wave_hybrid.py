@@ -232,10 +232,10 @@ def test_forms_used_per_harmonic():
 
 
 def test_local_field_permittivity_option():
-    """eps_grid(local_field=True): each pigment's ε replaced by the Clausius–Mossotti local-field
+    """Material data with the sphere's local field: each pigment's ε replaced by the Clausius–Mossotti local-field
     permittivity (written here), binder and air untouched; its volume mix is Maxwell Garnett to
     first order in the fill (the dipole response the scalar contrast lacks)."""
-    from solver.materials import binder_eps, pigment_eps
+    from solver.materials import binder_eps, default_materials, pigment_eps
     layer = LayerSpec(parse_ink("Y15"), parse_particles("sphere:300"), thickness_nm=1000.0,
                       cell_nm=(1000.0, 1000.0))
     vox = voxelize(generate(layer, 5), (8, 8, 8))
@@ -243,7 +243,7 @@ def test_local_field_permittivity_option():
     e_h, e_p = complex(binder_eps(lam)), complex(pigment_eps("Y", lam))
     e_lf = e_h + 3 * e_h * (e_p - e_h) / (e_p + 2 * e_h)
     frac = dict(zip(vox.materials, vox.fractions))
-    diff = eps_grid(vox, lam, local_field=True) - eps_grid(vox, lam)
+    diff = eps_grid(vox, lam, default_materials().with_local_field()) - eps_grid(vox, lam)
     assert np.allclose(diff, frac["Y"] * (e_lf - e_p), atol=1e-12)
     # absorbed power ∝ Im ε·|E_inside|²: Im ε' = Im ε_p·|3ε_h/(ε_p + 2ε_h)|² for a real binder ε
     assert e_lf.imag / e_p.imag == pytest.approx(abs(3 * e_h / (e_p + 2 * e_h)) ** 2, rel=1e-9)

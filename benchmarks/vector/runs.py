@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from solver.geometry import eps_grid, voxelize
+from solver.materials import default_materials
 from solver.wave import DEFAULT_TM_FACES, Cell, Incidence, solve
 
 from .cases import Case, host_eps, lmax_for, realization, sphere_eps
@@ -100,7 +101,7 @@ def scalar_grid(case: Case) -> tuple[int, int, int]:
 
 
 #: Pigment permittivity models of the scalar side: 'volume' (the project's default: ε per voxel
-#: = volume mean of the materials) and 'localfield' (`eps_grid(..., local_field=True)`).
+#: = volume mean of the materials) and 'localfield' (spheres' local-field ε, the tables' default).
 MATERIALS = ("volume", "localfield")
 
 
@@ -118,7 +119,8 @@ def scalar_cell(case: Case, r: int, lam: float, material: str = "volume") -> Cel
     if material not in MATERIALS:
         raise ValueError(f"scalar material model must be one of {MATERIALS}, got {material!r}")
     vox = voxelize(realization(case, r), scalar_grid(case))
-    eps = eps_grid(vox, lam, local_field=(material == "localfield"))
+    data = default_materials()
+    eps = eps_grid(vox, lam, data.with_local_field() if material == "localfield" else data)
     return Cell(eps, (case.cell_nm, case.cell_nm), vox.z_range_nm)
 
 

@@ -36,7 +36,11 @@ def add_request_arguments(p: argparse.ArgumentParser) -> None:
                    help="number of incidence angles, uniform from 0° to 90° inclusive (default 46 for "
                         "molecular inks; particles 0,15,30,45,60,70,80,90)")
     p.add_argument("--polarisation", choices=POLARISATIONS, default=DEFAULT_POLARISATION,
-                   help="light the table is for")
+                   help="light the table is for (te: the paper's scalar model)")
+    p.add_argument("--local-field", action=argparse.BooleanOptionalAction, default=None,
+                   help="pigments with their local-field permittivity, the grains' (and dissolved pigment's) "
+                        "dipole response that the scalar equation lacks (docs/polarisation.md); default on "
+                        "with unpolarised light, off with te")
     g = p.add_argument_group("particle inks (wave-optics tiers)")
     g.add_argument("--accuracy", choices=tuple(ACCURACY), default="default",
                    help="preset of the settings below (docs/tables.md: error and cost of each)")
@@ -47,9 +51,6 @@ def add_request_arguments(p: argparse.ArgumentParser) -> None:
                         "(starting from --realizations, at most --max-realizations)")
     g.add_argument("--max-realizations", type=int, default=None,
                    help=f"cap for --target-se (default {_WAVE.max_realizations})")
-    g.add_argument("--local-field", action="store_true", default=None,
-                   help="grains with their local-field permittivity ε' = ε_h + 3ε_h(ε_p − ε_h)/(ε_p + 2ε_h) "
-                        "(closer to Maxwell's equations for spheres: docs/vector_referee.md)")
     g.add_argument("--azimuths", type=int, default=None,
                    help=f"incidence azimuths per realization (default {_WAVE.azimuths})")
     g.add_argument("--tolerance", type=float, default=None,
@@ -98,12 +99,12 @@ def request_from_args(args) -> TableRequest:
         ("realizations", args.realizations), ("azimuths", args.azimuths), ("tolerance", args.tolerance),
         ("tier", args.tier), ("cell_nm", args.cell), ("grid", tuple(args.grid) if args.grid else None),
         ("solver_tol", args.solver_tol), ("seed", args.seed), ("target_se", args.target_se),
-        ("max_realizations", args.max_realizations), ("local_field", args.local_field)) if value is not None}
+        ("max_realizations", args.max_realizations)) if value is not None}
     return table_request(
         args.ink, args.particles, thickness_nm=thickness, accuracy=args.accuracy,
         wavelengths_nm=wavelength_range(args.wavelengths) if args.wavelengths else None,
         sigma_rad=uniform_angles(args.angles) if args.angles is not None else None,
-        polarisation=args.polarisation, **overrides)
+        polarisation=args.polarisation, local_field=args.local_field, **overrides)
 
 
 def options_from_args(args) -> BuildOptions:

@@ -18,10 +18,11 @@ top the binder surface height (`surface.binder_surface_nm`) is evaluated on the 
 part of a line above it is air.
 
 `eps_grid` mixes linearly: ε = Σ_m f_m ε_m(λ).  Voxelise once per realization, then call
-eps_grid for each wavelength.  Option `local_field=True` (opt-in, docs/vector_referee.md):
-every pigment enters with the permittivity whose scalar contrast equals a small sphere's
-dipole response in the binder (Clausius–Mossotti local field), ε' = ε_h + 3ε_h(ε_p − ε_h)/(ε_p + 2ε_h),
-ε_h = the binder's ε (docs/design.md §2).
+eps_grid for each wavelength.  With material data that carry a local field
+(`MaterialData.with_local_field`; a table request's default, docs/polarisation.md) every
+pigment enters with the permittivity whose scalar contrast equals a small grain's dipole
+response in the binder, for a sphere ε' = ε_h + 3ε_h(ε_p − ε_h)/(ε_p + 2ε_h), ε_h = the
+binder's ε (docs/design.md §2).
 """
 
 from __future__ import annotations
@@ -176,15 +177,11 @@ def voxelize(realization, shape=(128, 128, 64), lines=None) -> VoxelFractions:
                           clipped)
 
 
-def eps_grid(vox: VoxelFractions, wavelength_nm: float, materials: MaterialData | None = None,
-             *, local_field: bool = False) -> np.ndarray:
+def eps_grid(vox: VoxelFractions, wavelength_nm: float, materials: MaterialData | None = None) -> np.ndarray:
     """Complex permittivity per voxel (nx, ny, nz) at one wavelength: Σ f_m ε_m(λ)
-    (material data: the package's unless given).  local_field: pigments enter with
-    `materials.local_field_eps(ε_pigment, ε_binder)` (module doc; opt-in; a request's material
-    data can carry it too: `MaterialData.with_local_field`)."""
+    (material data: the package's bulk constants unless given; data with a local field,
+    `MaterialData.with_local_field`, give the pigments their local-field ε)."""
     data = materials or default_materials()
-    if local_field:
-        data = data.with_local_field()
     eps = np.zeros(vox.shape, dtype=np.complex128)
     for name, frac in zip(vox.materials, vox.fractions):
         if name == "binder":

@@ -19,6 +19,7 @@ def table_meta(request: TableRequest, tier: str, reason: str, *, seeds=(), timin
         "particles": request.particles_label,
         "thickness_nm": layers[0].thickness_nm if len(layers) == 1 else [l.thickness_nm for l in layers],
         "polarisation": request.polarisation,
+        "local_field": request.local_field,
         "accuracy": request.accuracy,
         "tier": tier,
         "tier_reason": reason,

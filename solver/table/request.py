@@ -26,6 +26,7 @@ from dataclasses import asdict, dataclass, field, replace
 
 import numpy as np
 
+from ..geometry.depolarisation import local_field_of
 from ..geometry.spec import MOLECULAR_WORDS, ParticleSpec, parse_particles
 from ..geometry.stacking import split_cells
 from ..inks import Ink, parse_ink
@@ -41,6 +42,10 @@ class RequestError(ValueError):
 # ---------------------------------------------------------------------------- the defaults
 DEFAULT_THICKNESS_NM = 1000.0
 DEFAULT_POLARISATION = "unpolarised"
+#: the pigments' local field (docs/polarisation.md, "Local field") is on by default with
+#: unpolarised light (the model closest to Maxwell's equations) and off with --polarisation te
+#: (the paper's scalar model, today's tables exactly); --local-field / --no-local-field choose
+LOCAL_FIELD_DEFAULT = {"unpolarised": True, "te": False}
 #: "Y15/B15": Y15 printed over B15 (layers top first)
 LAYER_SEPARATOR = "/"
 #: molecular inks (exact thin film, cheap): 10-nm steps and 46 uniform incidence angles
@@ -71,7 +76,6 @@ class WaveSettings:
     tier: str = "auto"
     target_se: float | None = None             # add realizations until max SE(Rbar, Tbar) ≤ this
     max_realizations: int = 64                 # … but never more than this
-    local_field: bool = False                  # grains with their local-field ε (materials.py)
 
 
 #: accuracy presets of particle inks (wave settings and wavelength step); docs/tables.md has
@@ -150,8 +154,17 @@ class TableRequest:
     grids: Grids
     wave: WaveSettings | None = None            # None when every layer is molecular
     polarisation: str = DEFAULT_POLARISATION
-    materials: MaterialData = field(default_factory=default_materials)
+    materials: MaterialData = field(default_factory=default_materials)   # bulk constants
     accuracy: str = "default"                   # the preset the settings came from (a label)
+    local_field: bool = LOCAL_FIELD_DEFAULT[DEFAULT_POLARISATION]   # pigments' local field (layer_materials)
+
+    def layer_materials(self, index: int = 0) -> MaterialData:
+        """The material data layer `index` is computed with: with the local field, its pigments
+        enter with the local-field ε of its grains (`geometry.depolarisation`; dissolved
+        pigment: the Lorentz sphere), else with their bulk ε."""
+        if not self.local_field:
+            return self.materials
+        return self.materials.with_local_field(local_field_of(self.layers[index].particles))
 
     # ---- conveniences for the common single-layer case
     @property
@@ -193,6 +206,7 @@ class TableRequest:
              "wavelengths_nm": list(self.grids.wavelengths_nm),
              "sigma_rad": list(self.grids.sigma_rad),
              "polarisation": self.polarisation,
+             "local_field": self.local_field,
              "materials": self.materials.fingerprint,
              "code": code_fingerprint(self.kind)}
         if not self.molecular:
@@ -291,13 +305,14 @@ def _layers(ink, particles, thickness_nm) -> tuple[Layer, ...]:
 def table_request(ink, particles="molecular", *, thickness_nm=None, accuracy: str = "default",
                   wavelengths_nm=None, sigma_rad=None, dphi_count: int = DPHI_COUNT,
                   polarisation: str = DEFAULT_POLARISATION, materials: MaterialData | None = None,
-                  **wave_overrides) -> TableRequest:
+                  local_field: bool | None = None, **wave_overrides) -> TableRequest:
     """The request for an ink, with every default filled from this module and validated.
 
     ink: a spec ('R30', 'Y7.5+B7.5', 'G30', 'clear', 'Y15/B15' for Y15 printed over B15) or Ink;
     particles: 'molecular' or a particle spec (one for all layers, or 'a/b' per layer);
     thickness_nm: per layer (a number, or one per layer); accuracy: a key of ACCURACY;
     wavelengths_nm / sigma_rad: explicit grids (else the defaults for the kind of ink);
+    local_field: the pigments' local-field ε (None: LOCAL_FIELD_DEFAULT of the polarisation);
     wave_overrides: fields of WaveSettings (cell_nm, grid, realizations, azimuths, solver_tol,
     tolerance, seed, tier).
     """
@@ -338,12 +353,9 @@ def table_request(ink, particles="molecular", *, thickness_nm=None, accuracy: st
                       f"{', '.join(OPTION.get(k, k) for k in sorted(set(wave_overrides) - {'tier'}))} "
                       "ignored", stacklevel=2)
     materials = materials or default_materials()
-    if wave is not None and wave.local_field:
-        if any(layer.molecular for layer in layers):
-            raise RequestError("--local-field corrects grains; a stack with molecular (dissolved) layers "
-                               "cannot take it")
-        materials = materials.with_local_field()
-    req = TableRequest(layers, grids, wave, polarisation, materials, accuracy)
+    if local_field is None:
+        local_field = LOCAL_FIELD_DEFAULT.get(polarisation, True)   # an unknown one is refused below
+    req = TableRequest(layers, grids, wave, polarisation, materials, accuracy, local_field)
     validate(req)
     return req
 
@@ -381,6 +393,8 @@ def validate(req: TableRequest) -> None:
         raise RequestError(f"{OPTION['dphi_count']} must be an integer ≥ 3, got {req.grids.dphi_count!r}")
     if req.polarisation not in POLARISATIONS:
         raise RequestError(f"{OPTION['polarisation']} {req.polarisation!r}: choose one of {', '.join(POLARISATIONS)}")
+    if not isinstance(req.local_field, (bool, np.bool_)):
+        raise RequestError(f"{OPTION['local_field']} is on or off (a boolean), got {req.local_field!r}")
     if req.wave is None:
         return
     w = req.wave
@@ -416,8 +430,6 @@ def validate(req: TableRequest) -> None:
                            f"({w.realizations}), got {w.max_realizations!r}")
     if not isinstance(w.seed, (int, np.integer)) or w.seed < 0:
         raise RequestError(f"{OPTION['seed']} must be an integer ≥ 0, got {w.seed!r}")
-    if not isinstance(w.local_field, (bool, np.bool_)):
-        raise RequestError(f"{OPTION['local_field']} is on or off (a boolean), got {w.local_field!r}")
     if w.tier not in TIERS:
         raise RequestError(f"{OPTION['tier']} {w.tier!r}: choose one of {', '.join(TIERS)}")
     if w.tier == "thin-film":

@@ -27,6 +27,8 @@ from .request import DEFAULT_POLARISATION, LAYER_SEPARATOR
 from .schema import POLARISATIONS, SCHEMA_VERSION, InkTable
 
 MIXING_RULE = "linear volume-weighted permittivity: eps = (1 - sum f_i) eps_binder + sum f_i eps_i"
+#: appended where the material data give the pigments their local field (docs/polarisation.md)
+LOCAL_FIELD_RULE = ", eps_i the pigment's local-field permittivity in the binder (materials.local_field_eps)"
 
 
 def stack_label(layers: Sequence[tuple[Ink, float]]) -> str:
@@ -45,10 +47,11 @@ def build_thinfilm_table(ink: Ink, thickness_nm: float, wavelengths_nm, sigma_ra
 
 
 def build_stack_table(layers: Sequence[tuple[Ink, float]], wavelengths_nm, sigma_rad,
-                      materials: MaterialData | None = None, *,
+                      materials: MaterialData | Sequence[MaterialData] | None = None, *,
                       polarisation: str = DEFAULT_POLARISATION) -> InkTable:
     """Exact table of homogeneous layers [(ink, thickness_nm), ...], top layer first, with air
-    above and the air gap to the paper below (materials: None = the default data)."""
+    above and the air gap to the paper below (materials: None = the default data, or one
+    MaterialData for every layer, or one per layer)."""
     layers = [(ink, float(d)) for ink, d in layers]
     if not layers:
         raise ValueError("a layer stack needs at least one (ink, thickness_nm) layer")
@@ -60,7 +63,10 @@ def build_stack_table(layers: Sequence[tuple[Ink, float]], wavelengths_nm, sigma
                          f"got {polarisation!r}")
     wl = np.asarray(wavelengths_nm, dtype=float)
     sigma = np.asarray(sigma_rad, dtype=float)
-    eps = [molecular_eps(ink, wl, materials)[:, None] for ink, _ in layers]
+    per_layer = materials if isinstance(materials, (list, tuple)) else [materials] * len(layers)
+    if len(per_layer) != len(layers):
+        raise ValueError(f"{len(per_layer)} material data for {len(layers)} layers")
+    eps = [molecular_eps(ink, wl, data)[:, None] for (ink, _), data in zip(layers, per_layer)]
     thickness = [d for _, d in layers]
 
     symmetric = len(layers) == 1                     # air on both sides of one layer
@@ -89,10 +95,12 @@ def build_stack_table(layers: Sequence[tuple[Ink, float]], wavelengths_nm, sigma
                     dphi=np.array([0.0, np.pi]), R=np.zeros((wl.size, sigma.size, 2, 2)),
                     R_spec=columns["R_spec"], T_coh=columns["T_coh"], Rbar=columns["R_spec"].copy(),
                     Tbar=columns["T_coh"].copy(), Rbar_below=columns["Rbar_below"],
-                    meta=_meta(layers, wl, sigma, polarisation), **split)
+                    meta=_meta(layers, wl, sigma, polarisation,
+                               any(d is not None and d.local_field is not None for d in per_layer)), **split)
 
 
-def _meta(layers: list[tuple[Ink, float]], wl: np.ndarray, sigma: np.ndarray, polarisation: str) -> dict:
+def _meta(layers: list[tuple[Ink, float]], wl: np.ndarray, sigma: np.ndarray, polarisation: str,
+          local_field: bool) -> dict:
     """The film's meta; a stack lists its pigments and thicknesses per layer, top first (as
     solver.table.meta.table_meta does)."""
     single = len(layers) == 1
@@ -107,7 +115,7 @@ def _meta(layers: list[tuple[Ink, float]], wl: np.ndarray, sigma: np.ndarray, po
         "tier": "thin-film",
         "tier_reason": ("homogeneous layer: exact Airy (transfer-matrix) solution" if single else
                         "stack of homogeneous layers: exact transfer-matrix solution"),
-        "mixing_rule": MIXING_RULE,
+        "mixing_rule": MIXING_RULE + (LOCAL_FIELD_RULE if local_field else ""),
         "generator": {"name": "inkbsdf.solver", "version": __version__},
         "settings": {"wavelengths_nm": [float(wl[0]), float(wl[-1]), int(wl.size)],
                      "sigma_count": int(sigma.size)},
@@ -124,4 +132,5 @@ def request_film(request, wavelengths_nm=None, sigma_rad=None, polarisation: str
     return build_stack_table([(layer.ink, layer.thickness_nm) for layer in request.layers],
                              request.grids.wavelengths_nm if wavelengths_nm is None else wavelengths_nm,
                              request.grids.sigma_rad if sigma_rad is None else sigma_rad,
-                             request.materials, polarisation=polarisation or request.polarisation)
+                             [request.layer_materials(i) for i in range(len(request.layers))],
+                             polarisation=polarisation or request.polarisation)

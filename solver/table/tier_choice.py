@@ -26,7 +26,8 @@ CANDIDATES = ("effective-medium", "born", "full")
 def probe_wavelength_indices(request: TableRequest) -> list[int]:
     """Most absorbing, least absorbing and a middle wavelength of the ink (by mean Im ε)."""
     wl = np.asarray(request.grids.wavelengths_nm)
-    loss = sum(molecular_eps(layer.ink, wl, request.materials).imag * layer.thickness_nm for layer in request.layers)
+    loss = sum(molecular_eps(layer.ink, wl, request.layer_materials(i)).imag * layer.thickness_nm
+               for i, layer in enumerate(request.layers))
     order = np.argsort(loss, kind="stable")
     return sorted({int(order[-1]), int(order[0]), int(order[len(order) // 2])})
 

@@ -78,8 +78,23 @@ def needs_below(request: TableRequest) -> bool:
 def nominal_eps(request: TableRequest, wavelength_nm: float) -> complex:
     """The background slab's ε_b: the layers' molecular-mix permittivities, thickness-weighted."""
     total = request.thickness_nm
-    return complex(sum(molecular_eps(layer.ink, wavelength_nm, request.materials) * layer.thickness_nm / total
-                       for layer in request.layers))
+    return complex(sum(molecular_eps(layer.ink, wavelength_nm, request.layer_materials(i)) * layer.thickness_nm
+                       / total for i, layer in enumerate(request.layers)))
+
+
+def cell_eps(request: TableRequest, vox, wavelength_nm: float) -> np.ndarray:
+    """Permittivity per voxel of a realization: each layer's z cells with that layer's material
+    data (`TableRequest.layer_materials`: its grains' local field)."""
+    if len(request.layers) == 1:
+        return eps_grid(vox, wavelength_nm, request.layer_materials(0))
+    cells = split_cells([layer.thickness_nm for layer in request.layers], vox.shape[2])
+    bounds = np.cumsum((0,) + cells)
+    eps = np.empty(vox.shape, complex)
+    for i in range(len(request.layers)):
+        z = slice(bounds[i], bounds[i + 1])
+        part = dataclasses.replace(vox, fractions=vox.fractions[..., z])
+        eps[..., z] = eps_grid(part, wavelength_nm, request.layer_materials(i))
+    return eps
 
 
 def _stack_geometry(request: TableRequest, realization: int):
@@ -130,7 +145,7 @@ def solve_unit(unit: SolveUnit) -> dict:
     wl = req.grids.wavelengths_nm[unit.wavelength_index]
     sig, phis, todo = req.grids.solved_sigma_rad, azimuths(req, unit.realization), samples(req)
     below = needs_below(req)
-    cell = Cell(eps_grid(vox, wl, req.materials), tuple(vox.period_nm), tuple(vox.z_range_nm))
+    cell = Cell(cell_eps(req, vox, wl), tuple(vox.period_nm), tuple(vox.z_range_nm))
     eps_nominal = nominal_eps(req, wl)
     z_top, z_bottom = (float(z) for z in vox.z_range_nm)
     polar, dphi = np.asarray(req.grids.sigma_rad), req.grids.dphi_rad

@@ -1,0 +1,75 @@
+"""The pigments' local field (docs/polarisation.md, "Local field"): depolarisation factors against
+their integral definition, orientation weights against sampled axes, and each layer of a stack
+computed with its own grains' field."""
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import quad
+
+from solver.geometry import eps_grid, parse_particles
+from solver.geometry.depolarisation import local_field_of, mean_axis_z_squared, spheroid_axial_factor
+from solver.geometry.shapes import sample_orientations
+from solver.geometry.stacking import split_cells
+from solver.materials import SPHERE_FIELD, LocalField, default_materials, local_field_eps
+from solver.table.request import table_request
+from solver.table.wave_tier import GeometryUnit, cell_eps, geometry_unit
+
+
+def depolarisation_integral(a: float, b: float, c: float) -> float:
+    """L along semi-axis a of the ellipsoid (a, b, c): (abc/2) ∫₀^∞ ds / ((s + a²) √((s+a²)(s+b²)(s+c²)))."""
+    f = lambda s: 1.0 / ((s + a * a) * math.sqrt((s + a * a) * (s + b * b) * (s + c * c)))
+    return 0.5 * a * b * c * quad(f, 0.0, np.inf, limit=200)[0]
+
+
+@pytest.mark.parametrize("aspect", [0.2, 0.5, 0.999, 1.0, 1.001, 2.0, 3.0, 10.0])
+def test_spheroid_factor_is_the_integral(aspect):
+    axial = spheroid_axial_factor(aspect)
+    assert axial == pytest.approx(depolarisation_integral(aspect, 1.0, 1.0), rel=1e-7)
+    assert 0.5 * (1 - axial) == pytest.approx(depolarisation_integral(1.0, aspect, 1.0), rel=1e-7)
+
+
+@pytest.mark.parametrize("spec", ["cylinder:100", "cylinder:100:vertical", "cylinder:100:inplane",
+                                  "cylinder:100:vertical:tilt=30", "cylinder:100:inplane:tilt=20"])
+def test_axis_weights_match_the_sampled_orientations(spec):
+    p = parse_particles(spec)
+    axes = sample_orientations(p.orientation, 200_000, np.random.default_rng(3), p.tilt_rad)
+    assert mean_axis_z_squared(p) == pytest.approx(np.mean(axes[:, 2] ** 2), abs=3e-3)
+    field = local_field_of(p)
+    # unpolarised in-plane field e: weight of the axis = ⟨(e·a)²⟩ = ⟨a_x² + a_y²⟩ / 2
+    assert field.pairs[0][0] == pytest.approx(0.5 * np.mean(1 - axes[:, 2] ** 2), abs=3e-3)
+    assert sum(w for w, _ in field.pairs) == pytest.approx(1.0)
+
+
+def test_shapes_order_the_response_as_physics_says():
+    """The pigment is optically thinner than the binder (Re ε_p < ε_h): a field along a needle
+    (small L) sees the bulk contrast, across it the depolarised one; a sphere lies between.
+    Isotropic cylinders average the three axes; vertical columns see only the cross field."""
+    eps_h, eps_p = 1.558**2 + 0j, (1.4 + 0.3j) ** 2
+    needle = local_field_eps(eps_p, eps_h, LocalField(((1.0, 0.0),)))
+    assert needle == pytest.approx(eps_p)                        # L = 0: no depolarisation
+    sphere = local_field_eps(eps_p, eps_h)
+    assert sphere == pytest.approx(eps_h + 3 * eps_h * (eps_p - eps_h) / (eps_p + 2 * eps_h))
+    vertical = local_field_eps(eps_p, eps_h, local_field_of(parse_particles("cylinder:100:vertical")))
+    inplane = local_field_eps(eps_p, eps_h, local_field_of(parse_particles("cylinder:100:inplane")))
+    assert vertical.imag > sphere.imag > inplane.imag > eps_p.imag  # L⊥ 0.446 > 1/3 > mix of L∥ 0.109
+    with pytest.raises(ValueError):
+        LocalField(((0.5, 0.3),))
+
+
+def test_stack_cells_take_each_layers_field():
+    req = table_request("Y15/Y15", "cylinder:100:vertical/sphere:100", grid=(16, 16, 8), realizations=1)
+    vox = geometry_unit(GeometryUnit(req, 0))
+    eps = cell_eps(req, vox, 450.0)
+    cells = split_cells([l.thickness_nm for l in req.layers], 8)
+    top = dataclasses.replace(vox, fractions=vox.fractions[..., :cells[0]])
+    bottom = dataclasses.replace(vox, fractions=vox.fractions[..., cells[0]:])
+    data = default_materials()
+    np.testing.assert_allclose(eps[..., :cells[0]],
+                               eps_grid(top, 450.0, data.with_local_field(local_field_of(req.layers[0].particles))))
+    np.testing.assert_allclose(eps[..., cells[0]:], eps_grid(bottom, 450.0, data.with_local_field(SPHERE_FIELD)))
+    plain = table_request("Y15/Y15", "cylinder:100:vertical/sphere:100", grid=(16, 16, 8), realizations=1,
+                          local_field=False)
+    np.testing.assert_allclose(cell_eps(plain, vox, 450.0), eps_grid(vox, 450.0, data))
