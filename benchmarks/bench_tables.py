@@ -16,6 +16,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 import tempfile
 import time
@@ -152,6 +153,41 @@ def grid_curve(wavelengths=(450.0, 650.0)) -> list[tuple]:
     return rows
 
 
+def born_control_study(wavelengths=(420.0, 460.0, 500.0, 600.0), n: int = 8) -> None:
+    """Would the Born solves (1 operator application) make a control variate for the full ones?
+    Per realization and cell (λ, σ) the azimuth-mean Tbar of both, their correlation ρ and the
+    optimal coefficient β = cov/var(Born); CPU seconds of a unit of each; and what two-phase
+    sampling (R full + Born pairs, N − R Born-only realizations) would give at the best
+    allocation, against plain realizations of the same cost (docs/tables.md, "Tried")."""
+    req = table_request(INK, PARTICLES, wavelengths_nm=wavelengths, realizations=n)
+    vals, cost = {"full": [], "born": []}, {"full": 0.0, "born": 0.0}
+    for r in range(n):
+        vox = geometry_unit(GeometryUnit(req, r))
+        for m in vals:
+            t0 = time.process_time()
+            vals[m].append([solve_unit(SolveUnit(req, r, li, vox, m))["Tbar"].mean(-1) for li in range(len(wavelengths))])
+            cost[m] += time.process_time() - t0
+    f, b = np.asarray(vals["full"]), np.asarray(vals["born"])          # [r, λ, σ]
+    cells = [(li, si) for li in range(f.shape[1]) for si in range(f.shape[2] - 1)]   # σ = 90°: analytic
+    rho = np.array([np.corrcoef(f[:, li, si], b[:, li, si])[0, 1] for li, si in cells])
+    beta = np.array([np.cov(f[:, li, si], b[:, li, si])[0, 1] / b[:, li, si].var(ddof=1) for li, si in cells])
+    ratio = cost["born"] / cost["full"]
+    print(f"Born control variate ({INK} 300 nm, {n} realizations, {len(wavelengths)} λ × {f.shape[2] - 1} σ, Tbar):")
+    print(f"  correlation full–Born per cell: median {np.median(rho):.2f}, range {rho.min():.2f}–{rho.max():.2f}; "
+          f"optimal β median {np.median(beta):.2f}, range {beta.min():.2f}–{beta.max():.2f}")
+    print(f"  CPU per unit: full {cost['full'] / (n * len(wavelengths)):.2f} s, Born "
+          f"{cost['born'] / (n * len(wavelengths)):.2f} s ({100 * ratio:.0f} %)")
+    for q in (float(np.median(rho)), float(rho.min())):
+        # two-phase sampling, optimal β: var = (1 − ρ²)/R + ρ²/N (units of one realization's
+        # variance), cost R·1 + N·c (c: a Born unit's share); best N/R = √(ρ²/((1 − ρ²)c));
+        # the budget of 4 plain realizations (variance 1/4)
+        k = max(1.0, math.sqrt(q * q / ((1 - q * q) * ratio)))
+        r_full = 4.0 / (1 + k * ratio)
+        var = (1 - q * q) / r_full + q * q / (k * r_full)
+        print(f"  ρ = {q:.2f}: best allocation N/R = {k:.1f}; at the cost of 4 plain realizations R = {r_full:.1f}, "
+              f"N = {k * r_full:.1f}: standard error × {math.sqrt(var / 0.25):.2f}")
+
+
 def film(ink: str, wavelengths_nm, sigma_rad):
     """The exact film table of a molecular ink on the given grids (through the request)."""
     return request_film(table_request(ink, wavelengths_nm=wavelengths_nm, sigma_rad=sigma_rad))
@@ -230,7 +266,12 @@ def main(argv=None) -> int:
     p.add_argument("--baseline", default=PREVIOUS_ROUND,
                    help="git revision timed beside the current code ('' to skip)")
     p.add_argument("--default-only", action="store_true", help="only the default table")
+    p.add_argument("--control-variate", action="store_true",
+                   help="only the Born control-variate study (tried, not built; ~2 min)")
     args = p.parse_args(argv if argv is not None else [])
+    if args.control_variate:
+        born_control_study()
+        return 0
     if not args.quick:
         default_table(args.workers, args.baseline or None)
     if args.default_only:

@@ -136,7 +136,7 @@ def print_case(case: Case, vec, sca, missing) -> dict | None:
     es = compare.reduce_units(sca[DEFAULT_VARIANTS[0]], case.wavelengths_nm, case.polar_deg)
     el = compare.reduce_units(sca[DEFAULT_VARIANTS[1]], case.wavelengths_nm, case.polar_deg)
     print("    λ     σ  pol  |  Rbar vec  scal    diff |  Tbar vec  scal    diff | Rspec vec  scal    diff"
-          " | A scal/vec | local-field scalar: ΔRbar  ΔTbar")
+          " | A scal/vec | default (local field): ΔRbar  ΔTbar")
     for i, lam in enumerate(case.wavelengths_nm):
         for j, sig in enumerate(case.polar_deg):
             for p, name in enumerate(compare.POL_NAMES):
@@ -153,9 +153,10 @@ def print_case(case: Case, vec, sca, missing) -> dict | None:
                       f" | {_fmt(ratio, 3):>9} | {lf}")
     out = {}
     if len(case.wavelengths_nm) >= 3 and len(case.polar_deg) >= 2:
-        print("    ink on paper (r = 0.9) under diffuse light, CIELAB (D65) and ΔE2000 to the vector layer:")
+        print("    ink on paper (r = 0.9) under diffuse light, CIELAB (D65) and ΔE2000 to the vector layer;\n"
+              "    scalar with the bulk pigment ε (the paper's volume mix: --no-local-field, --polarisation te):")
         out["plain"] = _colour(case, ev, es, "scalar")
-        print("    the same with the local-field pigment ε in the scalar solver (eps_grid(local_field=True)):")
+        print("    the tables' default: the local-field pigment ε (TableRequest.layer_materials), same faces:")
         out["localfield"] = _colour(case, ev, el, "scalar-LF")
     out["ensembles"] = (ev, es, el)
     return out

@@ -28,11 +28,13 @@ def build_tables(folder, inks=DEMO_INKS, overwrite=True, **request_options) -> d
 
 
 def main(argv=None) -> int:
-    """`python -m inkbsdf.demo_tables OUTDIR`: (re)build the demo tables that are missing or
-    unreadable (what `make tables` runs)."""
+    """`python -m inkbsdf.demo_tables OUTDIR`: (re)build the demo tables that are missing,
+    unreadable or not the current request's (their cache key differs: other settings, or code
+    or data that changed the numbers since) — what `make tables` runs."""
     import sys
 
     from solver.table import TableError, read_table
+    from solver.table.request import table_request
 
     args = sys.argv[1:] if argv is None else argv
     if len(args) != 1:
@@ -42,8 +44,9 @@ def main(argv=None) -> int:
     for ink in DEMO_INKS:
         path = folder / f"{ink}.npz"
         try:
-            read_table(path)
-            continue
+            if read_table(path).meta.get("cache_key") == table_request(ink).key():
+                continue
+            print(f"rebuilding {path}: computed by other code, data or settings than today's request")
         except TableError as exc:
             if path.exists():
                 print(f"rebuilding {path}: {exc}")

@@ -50,6 +50,21 @@ def test_demo_tables_are_the_cli_tables(tmp_path):
     assert table.meta["cache_key"] == _cli_request("--ink", "G30").key()
 
 
+def test_make_tables_rebuilds_demo_tables_of_another_request(tmp_path, capsys):
+    """`make tables` keeps a current table, rebuilds one another request (or older code) made."""
+    from inkbsdf.demo_tables import DEMO_INKS, build_tables, main
+    from solver.table import read_table
+
+    build_tables(tmp_path)
+    build_tables(tmp_path, ["R30"], polarisation="te")          # e.g. an old TE-only table
+    before = {ink: (tmp_path / f"{ink}.npz").stat().st_mtime_ns for ink in DEMO_INKS}
+    assert main([str(tmp_path)]) == 0
+    assert "rebuilding" in capsys.readouterr().out
+    after = {ink: (tmp_path / f"{ink}.npz").stat().st_mtime_ns for ink in DEMO_INKS}
+    assert [ink for ink in DEMO_INKS if after[ink] != before[ink]] == ["R30"]
+    assert read_table(tmp_path / "R30.npz").meta["cache_key"] == table_request("R30").key()
+
+
 def test_key_follows_what_changes_the_numbers():
     base = table_request("Y7.5+B7.5", "sphere:300")
     assert table_request("G30").key() == table_request("Y15+B15").key()          # one material

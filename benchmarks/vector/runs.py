@@ -152,8 +152,8 @@ def scalar_unit(case: Case, r: int, lam: float, sigma_deg: float, material: str 
     """The project's scalar solver (solver.wave) on the same realization, s = TE and p = TM
     with the face forms `tm_faces` (a solver.wave.faces preset), each cached.
 
-    material 'volume': the project's model (ε per voxel = volume mean of the materials);
-    'localfield': pigments with the local-field permittivity (`eps_grid(local_field=True)`)."""
+    material 'volume': the bulk pigment ε (the paper's volume mix, `--no-local-field`);
+    'localfield': the spheres' local-field pigment ε (the unpolarised tables' default)."""
     s = _scalar_pol(case, r, lam, sigma_deg, "s", material, tm_faces)
     p = _scalar_pol(case, r, lam, sigma_deg, "p", material, tm_faces)
     pick = lambda a, b: np.where(np.isnan(a), b, a)   # noqa: E731
