@@ -73,9 +73,12 @@ class LocalField:
     """How a pigment grain polarises in the binder: pairs (w, L) of field weight and
     depolarisation factor along the grain's principal axes (Σ w = 1).  A sphere (or a dissolved
     molecule in its Lorentz cavity) has one pair (1, 1/3); a cylinder's come from its shape and
-    orientation (`solver.geometry.depolarisation`)."""
+    orientation (`solver.geometry.depolarisation`).  dissolved: the pigment is dissolved as
+    molecules, each base pigment's in its own cavity (a molecular G is Y and B molecules, so its
+    ε' is the mix of theirs); a grain of a mixed pigment polarises as one body."""
 
     pairs: tuple[tuple[float, float], ...] = ((1.0, 1.0 / 3.0),)
+    dissolved: bool = False
 
     def __post_init__(self):
         if not self.pairs or abs(sum(w for w, _ in self.pairs) - 1.0) > 1e-9 \
@@ -83,8 +86,9 @@ class LocalField:
             raise ValueError(f"local-field pairs need weights summing to 1 and 0 ≤ L ≤ 1, got {self.pairs}")
 
 
-#: a sphere's (and a dissolved molecule's Lorentz cavity's) local field
+#: a sphere's local field, and that of dissolved molecules (the Lorentz cavity)
 SPHERE_FIELD = LocalField()
+DISSOLVED_FIELD = LocalField(dissolved=True)
 
 
 def local_field_eps(eps_particle, eps_host, field: LocalField = SPHERE_FIELD):
@@ -122,7 +126,7 @@ class MaterialData:
         h.update(repr((float(self.binder_index), float(self.pigment_real_index),
                        sorted((c, p.parts) for c, p in PIGMENTS.items()))).encode())
         if self.local_field is not None:
-            h.update(repr(("local field", self.local_field.pairs)).encode())
+            h.update(repr(("local field", self.local_field.pairs, self.local_field.dissolved)).encode())
         h.update(np.ascontiguousarray(self.wavelengths_nm, dtype=np.float64).tobytes())
         for code in sorted(self.k):
             h.update(code.encode() + np.ascontiguousarray(self.k[code], dtype=np.float64).tobytes())
@@ -159,10 +163,14 @@ class MaterialData:
     def pigment_eps(self, code: str, wavelength_nm) -> np.ndarray:
         """Relative permittivity ε = η² of a pigment (mixes ε-weighted) at λ in nm; with
         local_field, the local-field permittivity of its grains in the binder."""
-        eps = self._bulk_eps(code, wavelength_nm)      # a G grain: the Y–B mix, then its local field
         if self.local_field is None:
-            return eps
-        return local_field_eps(eps, self.binder_eps(wavelength_nm), self.local_field)
+            return self._bulk_eps(code, wavelength_nm)
+        host = self.binder_eps(wavelength_nm)
+        if self.local_field.dissolved:               # each base pigment's molecules in their cavity
+            return sum(w * local_field_eps(self._bulk_eps(c, wavelength_nm), host, self.local_field)
+                       for c, w in base_parts(code))
+        # a grain (of a mixed pigment too: a G grain is the Y–B mix, then its local field)
+        return local_field_eps(self._bulk_eps(code, wavelength_nm), host, self.local_field)
 
     def _bulk_eps(self, code: str, wavelength_nm) -> np.ndarray:
         pig = get_pigment(code)

@@ -73,3 +73,20 @@ def test_stack_cells_take_each_layers_field():
     plain = table_request("Y15/Y15", "cylinder:100:vertical/sphere:100", grid=(16, 16, 8), realizations=1,
                           local_field=False)
     np.testing.assert_allclose(cell_eps(plain, vox, 450.0), eps_grid(vox, 450.0, data))
+
+
+def test_dissolved_mixes_are_one_material_grains_of_a_mix_are_not():
+    """A molecular G30 and Y15+B15 share one key, so they must be one material with the local
+    field too (each base pigment's molecules in their own cavity); a G grain polarises as one
+    body of the Y–B mix, unlike separate Y and B grains."""
+    from solver.inks import molecular_eps, parse_ink
+
+    wl = np.linspace(400.0, 700.0, 7)
+    g, yb = table_request("G30"), table_request("Y15+B15")
+    assert g.key() == yb.key()
+    np.testing.assert_allclose(molecular_eps(g.layer.ink, wl, g.layer_materials()),
+                               molecular_eps(yb.layer.ink, wl, yb.layer_materials()), rtol=1e-13)
+    gg, ybg = table_request("G30", "sphere:100"), table_request("Y15+B15", "sphere:100")
+    assert gg.key() != ybg.key()
+    assert np.max(np.abs(molecular_eps(gg.layer.ink, wl, gg.layer_materials())
+                         - molecular_eps(ybg.layer.ink, wl, ybg.layer_materials()))) > 1e-4

@@ -19,7 +19,7 @@ from solver.figures.layout import CellGeometry, GridLayout, grid_labels, header_
 from solver.figures.make import grid_caption, spectra_panels
 from solver.figures.paper_grid import TITLES, parse_columns, parse_rows
 from solver.inks import molecular_eps, parse_ink
-from solver.materials import default_materials
+from solver.materials import DISSOLVED_FIELD, default_materials
 from solver.table.builder import BuildOptions
 from solver.table.cache import TableCache
 from solver.table.schema import read_table
@@ -190,8 +190,8 @@ def test_across_cylinders_use_the_smallest_reaching_tilt(tmp_path, monkeypatch):
 
 def film_transmittance(ink: str, wl_nm: np.ndarray, thickness_nm: float = 1000.0) -> np.ndarray:
     """Airy transmittance of an absorbing slab in air at normal incidence (oracles.airy_slab); the
-    figures' tables are unpolarised, so dissolved pigment has the Lorentz sphere's local field."""
-    n = np.sqrt(molecular_eps(parse_ink(ink), wl_nm, default_materials().with_local_field()))
+    figures' tables are unpolarised, so dissolved pigment has its molecules' local field."""
+    n = np.sqrt(molecular_eps(parse_ink(ink), wl_nm, default_materials().with_local_field(DISSOLVED_FIELD)))
     return airy_slab(1.0, n, 1.0, thickness_nm, wl_nm, 0.0)[3]
 
 

@@ -7,7 +7,7 @@ import numpy as np
 from bsdf_probes import evaluate, hemisphere
 from oracles import azimuth_difference
 from solver.inks import parse_ink
-from solver.materials import default_materials
+from solver.materials import DISSOLVED_FIELD, default_materials
 from solver.printing import PrintedInks, brdf_smooth
 from solver.table.builder import build_table
 from solver.table.request import DEFAULT_POLARISATION, table_request
@@ -24,7 +24,7 @@ def test_overlapping_inks_build_their_stack_through_the_cache(tmp_path, use_vari
     assert len(list((cache / "tables").glob("*.npz"))) == 3          # Y30, B30 and the overprint B30/Y30
     y, b = (build_table(table_request(ink)) for ink in ("Y30", "B30"))
     stack = build_stack_table([(parse_ink("B30"), 1000.0), (parse_ink("Y30"), 1000.0)], y.wavelengths, y.sigma,
-                              default_materials().with_local_field(),     # dissolved: the Lorentz sphere
+                              default_materials().with_local_field(DISSOLVED_FIELD),   # dissolved pigment
                               polarisation=DEFAULT_POLARISATION)
     printed = PrintedInks((y, b), {(0, 1): stack})
     rng = np.random.default_rng(3)

@@ -15,7 +15,7 @@ from conftest import process_group
 from oracles import reference_eval
 from solver.geometry import VoxelFractions, eps_grid
 from solver.inks import molecular_eps, parse_ink
-from solver.materials import SPHERE_FIELD, default_materials
+from solver.materials import DISSOLVED_FIELD, default_materials
 from solver.table import read_table
 from solver.table.builder import BuildOptions, build_table, get_or_build
 from solver.table.cache import TableCache
@@ -149,7 +149,7 @@ def test_molecular_request_is_the_exact_tier(tmp_path):
     """Unpolarised (default): dissolved pigment with the Lorentz sphere's local field."""
     table, _, built = get_or_build(table_request("Y12.5+B2.5"), opts(tmp_path))
     film = build_thinfilm_table(parse_ink("Y12.5+B2.5"), 1000.0, table.wavelengths, table.sigma,
-                                default_materials().with_local_field(SPHERE_FIELD),
+                                default_materials().with_local_field(DISSOLVED_FIELD),
                                 polarisation=table.polarisation)
     assert built and table.meta["tier"] == "thin-film"
     for name in COLUMNS:

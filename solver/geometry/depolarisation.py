@@ -6,7 +6,8 @@ The scalar equation has no such surface condition, so the layer's pigments enter
 permittivity whose contrast carries that response (`materials.local_field_eps`). Each axis is
 weighted by the mean of (e·a_j)² over the grains' orientations and the field's directions e:
 
-* spheres (and dissolved pigment, the Lorentz cavity): L = 1/3 on every axis, one pair (1, 1/3);
+* spheres: L = 1/3 on every axis, one pair (1, 1/3); dissolved pigment (molecular inks): the
+  same for each base pigment's molecules in their Lorentz cavity (`materials.DISSOLVED_FIELD`);
 * cylinders (length 6 radii, `spec.CYLINDER_LENGTH_RADII`): the factors of the prolate spheroid
   of the same aspect ratio (the standard stand-in for a finite cylinder), L_∥ along the axis and
   L_⊥ = (1 − L_∥)/2 across it. The field is taken in the layer's plane, unpolarised (light
@@ -19,7 +20,7 @@ from __future__ import annotations
 
 import math
 
-from ..materials import SPHERE_FIELD, LocalField
+from ..materials import DISSOLVED_FIELD, SPHERE_FIELD, LocalField
 from .spec import CYLINDER_LENGTH_RADII, ParticleSpec, polar_range_rad
 
 
@@ -46,8 +47,11 @@ def mean_axis_z_squared(spec: ParticleSpec) -> float:
 
 
 def local_field_of(spec: ParticleSpec | None) -> LocalField:
-    """The local-field model of a layer's grains (None: dissolved pigment, the Lorentz sphere)."""
-    if spec is None or spec.shape == "sphere":
+    """The local-field model of a layer's grains (None: dissolved pigment, molecules in the
+    Lorentz sphere)."""
+    if spec is None:
+        return DISSOLVED_FIELD
+    if spec.shape == "sphere":
         return SPHERE_FIELD
     l_axial = spheroid_axial_factor(CYLINDER_LENGTH_RADII / 2.0)   # length 6 r over diameter 2 r
     w_axial = 0.5 * (1.0 - mean_axis_z_squared(spec))
