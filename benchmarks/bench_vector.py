@@ -34,9 +34,9 @@ COLOUR_WAVELENGTHS = (420.0, 470.0, 520.0, 580.0, 660.0)
 
 #: The comparison cases, cheapest first.  Cells are as large as the lattice sums allow on the
 #: 2-core VM (docs/vector_referee.md: cost ∝ pairs of spheres × (2·lmax + 1)²).
-#: The two colour cases have 3 and 2 realizations (docs/vector_referee.md, realization noise).
+#: The two colour cases have 5 and 2 realizations (docs/vector_referee.md, realization noise).
 CASES = (
-    Case(300.0, 0.15, 1000.0, COLOUR_WAVELENGTHS, realizations=3),
+    Case(300.0, 0.15, 1000.0, COLOUR_WAVELENGTHS, realizations=5),
     Case(100.0, 0.15, 500.0, (420.0, 470.0, 520.0, 660.0), pw_cutoff_per_nm=0.08,
          realizations=2),
     Case(300.0, 0.50, 1000.0, (470.0, 550.0), polar_deg=(0.0,)),

@@ -21,7 +21,13 @@ def test_build_and_show(tmp_path, capsys):
     png, plot = tmp_path / "g.png", tmp_path / "s.png"
     assert main(["show", str(out), "--png", str(png), "--plot", str(plot)]) == 0
     text = capsys.readouterr().out
-    assert "ink G30" in text and "hue" in text
+    assert "ink G30" in text and "hue" in text and "pigment ε local field" in text
+    te = tmp_path / "te.npz"
+    assert main(["build", "--ink", "G30", "--wavelengths", "400:700:50", "--angles", "7", "--polarisation", "te",
+                 "-o", str(te)]) == 0
+    assert read_table(te).meta["local_field"] is False
+    capsys.readouterr()
+    assert main(["show", str(te)]) == 0 and "pigment ε bulk" in capsys.readouterr().out
     import matplotlib.image
     image = matplotlib.image.imread(png)
     assert image.shape[0] > 256 and image.shape[1] > 64 + 256       # Fig. 6 with axes and a caption

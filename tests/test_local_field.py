@@ -90,3 +90,17 @@ def test_dissolved_mixes_are_one_material_grains_of_a_mix_are_not():
     assert gg.key() != ybg.key()
     assert np.max(np.abs(molecular_eps(gg.layer.ink, wl, gg.layer_materials())
                          - molecular_eps(ybg.layer.ink, wl, ybg.layer_materials()))) > 1e-4
+
+
+@pytest.mark.parametrize("field", [SPHERE_FIELD, local_field_of(parse_particles("cylinder:100:vertical")),
+                                   local_field_of(parse_particles("cylinder:100:inplane:tilt=30"))])
+def test_local_field_stays_passive_and_finite_for_any_absorption(field):
+    """Strong absorption (k up to 5, Re ε_p < 0) and transparent grains: ε' is finite and never
+    gains energy (Im ε' ≥ 0; = 0 for a lossless grain), the denominators ε_h + L(ε_p − ε_h)
+    never vanish for a passive pigment in a real binder."""
+    eps_h = 1.558**2 + 0j
+    k = np.concatenate([[0.0], np.geomspace(1e-6, 5.0, 400)])
+    eps_p = (1.4 + 1j * k) ** 2
+    eps = local_field_eps(eps_p, eps_h, field)
+    assert np.all(np.isfinite(eps)) and np.all(eps.imag >= 0) and eps[0].imag == 0
+    assert np.all(np.diff(eps.imag[k < 0.5]) > 0)          # more pigment loss, more layer loss

@@ -24,13 +24,18 @@ def _column_at_deg(table, name: str, degrees: float) -> np.ndarray:
     return column_at(table, name, np.radians(degrees))
 
 
+def _pigment_eps(meta: dict) -> str:
+    """How the table's pigments entered (tables from before the local field existed: bulk)."""
+    return "local field" if meta.get("local_field") else "bulk"
+
+
 def summary(table, paper: float = 0.9) -> str:
     meta = table.meta
     wl = table.wavelengths
     lines = [
         f"ink {meta.get('ink')}  particles {meta.get('particles')}  tier {meta.get('tier')}  "
         f"thickness {meta.get('thickness_nm')} nm  polarisation {meta.get('polarisation', 'te')}  "
-        f"schema v{meta.get('schema_version')}",
+        f"pigment ε {_pigment_eps(meta)}  schema v{meta.get('schema_version')}",
         f"wavelengths {wl[0]:g}–{wl[-1]:g} nm ({wl.size})  incidence angles {table.sigma.size}  "
         f"BRDF grid θ×Δφ {table.theta.size}×{table.dphi.size}  diffuse R: {'yes' if table.has_diffuse else 'none'}",
         f"generator {meta.get('generator')}  seeds {meta.get('seeds')}",

@@ -43,7 +43,8 @@ def duration(seconds: float) -> str:
 
 
 def grid_caption(accuracy: str) -> str:
-    return (f"Ink layer on paper (white Lambertian, albedo {PAPER_ALBEDO:g}); accuracy {accuracy}. Each cell: strip = "
+    return (f"Ink layer on paper (white Lambertian, albedo {PAPER_ALBEDO:g}); accuracy {accuracy}; unpolarised light, "
+            "pigments with their grains' local field. Each cell: strip = "
             "diffuse light, view 0° (top) to 60° (bottom); square = parallel beam, light 0–60° (x) × view 0–60° (y). "
             "Crossed out: failed (reason in the CSV).")
 
