@@ -101,6 +101,39 @@ def _colour(case, ev, es, what) -> dict:
     return out
 
 
+def mie_matched_study(cases) -> None:
+    """The Mie-matched local fields that were tried (`vector.mie_matched`): one sphere's
+    absorption efficiency with each ε', then each variant's colour error against the referee."""
+    from benchmarks.vector.mie_matched import MODES, matched_eps, scalar_sphere_efficiencies
+    from benchmarks.vector.oracles import mie_cross_sections
+    from solver.materials import local_field_eps
+
+    for case in cases:
+        if len(case.polar_deg) < 2:
+            continue
+        a, eh = case.diameter_nm / 2, host_eps()
+        print(f"\n--- {case.label}: one sphere's Q_abs (Mie | scalar bulk ε | dipole ε' | mieabs) and ε'")
+        for lam in case.wavelengths_nm:
+            ep = sphere_eps(case, lam)
+            x = 2 * np.pi * np.sqrt(eh) / lam * a
+            q = lambda e: scalar_sphere_efficiencies(x, np.sqrt(e / eh))[0]   # noqa: E731
+            mie = float(np.real(mie_cross_sections(a, lam, np.sqrt(ep), np.sqrt(eh))[2])) / (np.pi * a * a)
+            dip = local_field_eps(ep, eh)
+            print(f"    {lam:4.0f} nm: {mie:.4f} | {q(ep):.4f} | {q(dip):.4f} | {q(matched_eps(ep, eh, a, lam, 'mieabs')):.4f}"
+                  f"   ε' dipole {dip:.3f}, " + ", ".join(f"{m} {matched_eps(ep, eh, a, lam, m):.3f}" for m in MODES))
+        variants = tuple((m, DEFAULT_TM_FACES) for m in ("localfield",) + MODES)
+        vec, sca, missing = units_of(case, variants=variants)
+        if missing:
+            print(f"    vector units missing ({len(missing)}): run with --compute")
+            continue
+        ev = compare.reduce_units(vec, case.wavelengths_nm, case.polar_deg)
+        for v in variants:
+            es = compare.reduce_units(sca[v], case.wavelengths_nm, case.polar_deg)
+            de = compare.delta_e2000(compare.lab_of(ev, 2), compare.lab_of(es, 2))
+            print(f"    {v[0]:10s} unpolarised ΔE2000 at " + ", ".join(f"{sig:g}°: {d:.2f}" for sig, d in zip(case.polar_deg, de))
+                  + f";  max |ΔTbar| {np.max(np.abs(es.Tbar[..., 2] - ev.Tbar[..., 2])):.4f}")
+
+
 def small_particle_limit(case: Case) -> str:
     """Quasi-static limit: the scalar equation's effective medium is the volume mean of ε (ε enters
     as a potential), Maxwell's is Maxwell Garnett (spheres polarise: local-field factor)."""
@@ -216,6 +249,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--faces", action="store_true",
                     help="evaluate every TM face-form preset (and the local-field ε) against the "
                          "cached vector units, with reciprocity and Wood-anomaly checks")
+    ap.add_argument("--mie-matched", action="store_true",
+                    help="the Mie-matched local fields that were tried, against the cached vector units")
     ap.add_argument("--case", type=int, action="append", metavar="N",
                     help="only case N of CASES (0-based; repeatable), e.g. to compute cases in parallel")
     args = ap.parse_args(argv)
@@ -236,6 +271,9 @@ def main(argv: list[str] | None = None) -> int:
             return validate.knobs()
     if args.quick:
         return quick()
+    if args.mie_matched:
+        mie_matched_study(CASES if not args.case else [CASES[i] for i in args.case])
+        return 0
     if args.faces:
         from benchmarks.vector import faces_eval
         chosen = CASES if not args.case else [CASES[i] for i in args.case]

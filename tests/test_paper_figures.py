@@ -253,3 +253,16 @@ def test_a_cell_that_fails_to_build_makes_the_run_fail(tmp_path, particle_tables
     status, _, _ = run_main(main, ["paper", "fig9", "--rows", "G15", "--columns", "molecular,sphere:300",
                                    "--no-progress", "--cache", tmp_path / "cache", "-o", out], capsys)
     assert status == 1 and out.exists()
+
+
+def test_every_cell_of_a_figure_is_sampled_alike():
+    """The molecular column is computed on the particle preset's wavelengths and angles, so a
+    molecular-vs-grain step is never a step in spectral sampling (a 30-nm effective-medium cell
+    of a single pigment is then the molecular film itself)."""
+    for accuracy in ("preview", "default"):
+        settings = FigureSettings(accuracy)
+        mol, grains = settings.request("Y15", "molecular"), settings.request("Y15", "sphere:100")
+        assert mol.molecular and mol.grids.wavelengths_nm == grains.grids.wavelengths_nm
+        assert mol.grids.sigma_rad == grains.grids.sigma_rad
+    drafted = FigureSettings("preview", (("wavelengths_nm", (400.0, 550.0, 700.0)),))
+    assert drafted.request("Y15", "molecular").grids.wavelengths_nm == (400.0, 550.0, 700.0)

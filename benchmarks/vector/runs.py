@@ -26,6 +26,7 @@ from solver.materials import default_materials
 from solver.wave import DEFAULT_TM_FACES, Cell, Incidence, solve
 
 from .cases import Case, host_eps, lmax_for, realization, sphere_eps
+from .mie_matched import MODES, matched_eps
 
 CACHE = Path("out/bench/vector")
 SCALAR_VOXEL_NM = 1000.0 / 64      # ≈ λ/(18 n) at 450 nm: finer than the tables' default
@@ -100,9 +101,10 @@ def scalar_grid(case: Case) -> tuple[int, int, int]:
     return n_xy, n_xy, int(round(case.thickness_nm / SCALAR_VOXEL_NM))
 
 
-#: Pigment permittivity models of the scalar side: 'volume' (the project's default: ε per voxel
-#: = volume mean of the materials) and 'localfield' (spheres' local-field ε, the tables' default).
-MATERIALS = ("volume", "localfield")
+#: Pigment permittivity models of the scalar side: 'volume' (bulk ε: ε per voxel = volume mean
+#: of the materials), 'localfield' (spheres' local-field ε, the tables' default) and the two
+#: Mie-matched variants that were tried (`mie_matched.MODES`).
+MATERIALS = ("volume", "localfield") + MODES
 
 
 def scalar_path(case: Case, r: int, lam: float, sigma_deg: float, pol_key: str,
@@ -121,6 +123,10 @@ def scalar_cell(case: Case, r: int, lam: float, material: str = "volume") -> Cel
     vox = voxelize(realization(case, r), scalar_grid(case))
     data = default_materials()
     eps = eps_grid(vox, lam, data.with_local_field() if material == "localfield" else data)
+    if material in MODES:                  # the case's pigment with its Mie-matched ε'
+        bulk = sphere_eps(case, lam)
+        matched = matched_eps(bulk, host_eps(), case.diameter_nm / 2, lam, material)
+        eps = eps + vox.fractions[vox.materials.index(case.pigment)] * (matched - bulk)
     return Cell(eps, (case.cell_nm, case.cell_nm), vox.z_range_nm)
 
 

@@ -19,7 +19,7 @@ from tqdm import tqdm
 
 from ..geometry.spec import MOLECULAR_WORDS
 from ..table.builder import BuildOptions, get_or_build
-from ..table.request import TableRequest, table_request
+from ..table.request import TableRequest, default_grids, table_request
 from ..table.schema import InkTable
 from .paper_grid import Column, Row
 
@@ -39,8 +39,15 @@ class FigureSettings:
     overrides: tuple[tuple[str, object], ...] = ()
 
     def request(self, ink, particles: str) -> TableRequest:
+        """The cell's request.  Every cell of a figure is sampled on the same grids — the
+        molecular column too, on the particle preset's wavelengths and angles — so that a
+        column-to-column difference is never a difference of spectral or angular sampling
+        (at `preview`, 40-nm steps alone move a saturated film's colour by several ΔE)."""
         molecular = particles.strip().lower() in MOLECULAR_WORDS
         kw = {k: v for k, v in self.overrides if k in GRID_OPTIONS or not molecular}
+        if molecular:
+            wavelengths, sigma = default_grids(self.accuracy, molecular=False)
+            kw = {"wavelengths_nm": wavelengths, "sigma_rad": sigma, **kw}
         return table_request(ink, particles, accuracy=self.accuracy, **kw)
 
     @property

@@ -269,9 +269,15 @@ def uniform_angles(count: int) -> tuple[float, ...]:
     return tuple(float(s) for s in np.linspace(0.0, np.pi / 2, int(count)))
 
 
-def _default_wavelengths(step_nm: float) -> tuple[float, ...]:
+def default_grids(accuracy: str, molecular: bool) -> tuple[tuple[float, ...], tuple[float, ...]]:
+    """The default wavelengths (nm) and incidence angles (rad) of an ink's table: molecular inks
+    every 10 nm and 46 uniform angles; particle inks the accuracy preset's step and the solved
+    nodes (+ 90°)."""
     lo, hi = WAVELENGTH_RANGE_NM
-    return tuple(float(w) for w in np.arange(lo, hi + 0.5 * step_nm, step_nm))
+    step = FILM_WAVELENGTH_STEP_NM if molecular else ACCURACY[accuracy][1]
+    sigma = (np.linspace(0.0, np.pi / 2, FILM_SIGMA_COUNT) if molecular
+             else np.radians(PARTICLE_SIGMA_DEG + (90.0,)))
+    return (tuple(float(w) for w in np.arange(lo, hi + 0.5 * step, step)), tuple(float(s) for s in sigma))
 
 
 def _layers(ink, particles, thickness_nm) -> tuple[Layer, ...]:
@@ -324,12 +330,11 @@ def table_request(ink, particles="molecular", *, thickness_nm=None, accuracy: st
                            + ", ".join(WaveSettings.__dataclass_fields__))
     layers = _layers(ink, particles, thickness_nm)
     molecular = all(layer.molecular for layer in layers)
-    preset, step = ACCURACY[accuracy]
-    if wavelengths_nm is None:
-        wavelengths_nm = _default_wavelengths(FILM_WAVELENGTH_STEP_NM if molecular else step)
-    if sigma_rad is None:
-        sigma_rad = (np.linspace(0.0, np.pi / 2, FILM_SIGMA_COUNT) if molecular
-                     else np.radians(PARTICLE_SIGMA_DEG + (90.0,)))
+    preset = ACCURACY[accuracy][0]
+    if wavelengths_nm is None or sigma_rad is None:
+        default_wl, default_sigma = default_grids(accuracy, molecular)
+        wavelengths_nm = default_wl if wavelengths_nm is None else wavelengths_nm
+        sigma_rad = default_sigma if sigma_rad is None else sigma_rad
     grids = Grids(tuple(float(w) for w in np.atleast_1d(wavelengths_nm)),
                   tuple(float(s) for s in np.atleast_1d(sigma_rad)), int(dphi_count))
     tier = wave_overrides.get("tier", "auto")
