@@ -14,7 +14,8 @@
    so only drawing is timed);
 4. presets: each accuracy preset's colour error (ΔE2000) against `fine` and its build time on
    a few cells (tables kept in out/bench/presets_cache);
-5. fig7: the whole Fig. 7 at `preview` from an empty cache, timed (~25 min).
+5. fig7: the whole Fig. 7 at `preview` from an empty cache, timed (~25 min);
+6. steps: the map's colour steps between columns in the committed Fig. 7 CSV (the scale of 4).
 """
 
 from __future__ import annotations
@@ -170,10 +171,30 @@ def fig7_preview() -> None:
           + (summary[0] if summary else ""))
 
 
+#: column pairs whose colour steps give the map's scale (`steps`)
+STEP_PAIRS = (("molecular", "sphere:300"), ("sphere:100", "sphere:200"), ("molecular", "sphere:30"))
+
+
+def map_steps(csv_path: Path = Path("docs/data/fig7_preview.csv")) -> None:
+    """The map's own colour steps between columns (ΔE2000 over the rows of a figure CSV), the
+    scale the presets' errors are judged against."""
+    import csv
+
+    from solver.separation.colour_space import delta_e2000
+
+    with open(csv_path, newline="") as fh:
+        rows = [r for r in csv.DictReader(fh) if r["status"] == "ok"]
+    lab = {(r["ink"], r["column"]): np.array([float(r[k]) for k in "Lab"]) for r in rows}
+    print(f"\n6. the map's steps between columns, ΔE2000 over the rows ({csv_path}):")
+    for a, b in STEP_PAIRS:
+        de = [float(delta_e2000(lab[(ink, a)], lab[(ink, b)])) for ink, col in lab if col == a and (ink, b) in lab]
+        print(f"   {a} → {b}: median {np.median(de):.1f} ({min(de):.1f}–{max(de):.1f}) over {len(de)} rows")
+
+
 def main(argv=None) -> int:
     cache = TableCache(Path(tempfile.mkdtemp(prefix="figures_")))
     sections = {"plan": plan_costs, "se": lambda: se_check(cache), "draw": lambda: drawing(cache),
-                "presets": preset_errors, "fig7": fig7_preview}
+                "presets": preset_errors, "fig7": fig7_preview, "steps": map_steps}
     for name in (argv or sections):
         sections[name]()
     return 0
