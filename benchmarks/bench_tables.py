@@ -168,11 +168,11 @@ def born_control_study(wavelengths=(420.0, 460.0, 500.0, 600.0), n: int = 8) -> 
             vals[m].append([solve_unit(SolveUnit(req, r, li, vox, m))["Tbar"].mean(-1) for li in range(len(wavelengths))])
             cost[m] += time.process_time() - t0
     f, b = np.asarray(vals["full"]), np.asarray(vals["born"])          # [r, λ, σ]
-    cells = [(li, si) for li in range(f.shape[1]) for si in range(f.shape[2] - 1)]   # σ = 90°: analytic
+    cells = [(li, si) for li in range(f.shape[1]) for si in range(f.shape[2])]        # the solved σ
     rho = np.array([np.corrcoef(f[:, li, si], b[:, li, si])[0, 1] for li, si in cells])
     beta = np.array([np.cov(f[:, li, si], b[:, li, si])[0, 1] / b[:, li, si].var(ddof=1) for li, si in cells])
     ratio = cost["born"] / cost["full"]
-    print(f"Born control variate ({INK} 300 nm, {n} realizations, {len(wavelengths)} λ × {f.shape[2] - 1} σ, Tbar):")
+    print(f"Born control variate ({INK} 300 nm, {n} realizations, {len(wavelengths)} λ × {f.shape[2]} σ, Tbar):")
     print(f"  correlation full–Born per cell: median {np.median(rho):.2f}, range {rho.min():.2f}–{rho.max():.2f}; "
           f"optimal β median {np.median(beta):.2f}, range {beta.min():.2f}–{beta.max():.2f}")
     print(f"  CPU per unit: full {cost['full'] / (n * len(wavelengths)):.2f} s, Born "
