@@ -8,7 +8,7 @@ import pytest
 
 from conftest import run_main
 from solver.cli import main
-from solver.table.request import wavelength_range
+from solver.cli.parsing import wavelength_range
 from solver.table import read_table
 
 

@@ -10,7 +10,8 @@ import pytest
 
 from solver.materials import default_materials, load_material_data
 from solver.table.fingerprint import file_digest
-from solver.table.request import RequestError, table_request, wavelength_range
+from solver.cli.parsing import wavelength_range
+from solver.table.request import RequestError, table_request
 
 
 def _cli_request(*argv):

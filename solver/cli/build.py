@@ -12,8 +12,8 @@ from ..table.builder import BuildOptions, get_or_build
 from ..table.cache import TableCache
 from ..table.executor import default_workers
 from ..table.request import (ACCURACY, DEFAULT_POLARISATION, DEFAULT_THICKNESS_NM, POLARISATIONS, TIERS,
-                             TableRequest, WaveSettings, table_request, uniform_angles, wavelength_range)
-from .parsing import DefaultsFormatter, writable_output
+                             TableRequest, WaveSettings, table_request)
+from .parsing import DefaultsFormatter, uniform_angles, wavelength_range, writable_output
 
 log = logging.getLogger("ink-tables")
 _WAVE = WaveSettings()

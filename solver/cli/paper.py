@@ -11,9 +11,9 @@ what each figure and each CSV column shows.
 from __future__ import annotations
 
 from ..figures import FIGURES, FigureSettings, make_figure, parse_columns, parse_rows
-from ..table.request import ACCURACY, TIERS, uniform_angles, wavelength_range
+from ..table.request import ACCURACY, TIERS
 from .build import add_run_arguments, options_from_args
-from .parsing import DefaultsFormatter, writable_output
+from .parsing import DefaultsFormatter, uniform_angles, wavelength_range, writable_output
 
 
 def add_parser(sub) -> None:

@@ -5,9 +5,14 @@ work."""
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import tempfile
 from pathlib import Path
+
+import numpy as np
+
+from ..table.request import MAX_ANGLES, RequestError
 
 
 class OneLineParser(argparse.ArgumentParser):
@@ -61,3 +66,31 @@ def writable_output(path, suffix: str, option: str) -> Path:
         raise ValueError(f"{option} '{path}': cannot write in {folder} ({exc.strerror}): "
                          "choose a writable folder") from None
     return path
+
+
+def wavelength_range(text: str) -> tuple[float, ...]:
+    """'380:780:10' → 380, 390, …, 780 nm (inclusive); a single number gives one value."""
+    parts = str(text).split(":")
+    try:
+        values = [float(p) for p in parts]
+    except ValueError:
+        raise RequestError(f"--wavelengths {text!r}: expected START:STOP:STEP in nm, e.g. 380:780:10") from None
+    if not all(math.isfinite(v) for v in values):
+        raise RequestError(f"--wavelengths {text!r}: values must be finite numbers of nm")
+    if len(values) == 1:
+        return (values[0],)
+    if len(values) != 3 or values[2] <= 0 or values[1] < values[0]:
+        raise RequestError(f"--wavelengths {text!r}: expected START:STOP:STEP with STEP > 0 and STOP ≥ START")
+    start, stop, step = values
+    n = int(math.floor((stop - start) / step + 1e-9)) + 1
+    if n > 100_000:
+        raise RequestError(f"--wavelengths {text!r} asks for {n:,} wavelengths; use a step of ≥ 1 nm")
+    return tuple(float(v) for v in start + step * np.arange(n))
+
+
+def uniform_angles(count: int) -> tuple[float, ...]:
+    """`count` incidence angles uniformly from 0 to 90° inclusive (radians)."""
+    if not isinstance(count, (int, np.integer)) or not 2 <= count <= MAX_ANGLES:
+        raise RequestError(f"--angles is a count of incidence angles from 0° to 90° inclusive, 2 … {MAX_ANGLES}; "
+                           f"got {count!r}")
+    return tuple(float(s) for s in np.linspace(0.0, np.pi / 2, int(count)))

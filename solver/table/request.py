@@ -21,22 +21,18 @@ from __future__ import annotations
 
 import hashlib
 import json
-import math
 from dataclasses import asdict, dataclass, field, replace
 
 import numpy as np
 
 from ..geometry.depolarisation import local_field_of
 from ..geometry.spec import MOLECULAR_WORDS, ParticleSpec, parse_particles
-from ..geometry.stacking import split_cells
 from ..inks import Ink, parse_ink
 from ..materials import MaterialData, default_materials
 from .fingerprint import code_fingerprint
-from .schema import POLARISATIONS
-
-
-class RequestError(ValueError):
-    """A table request that cannot be computed as asked; the message names the option."""
+# the names and limits requests are checked against, re-exported: callers find them here
+from .request_checks import MAX_ANGLES, MIN_GRID, OPTION, TIERS, RequestError, validate  # noqa: F401
+from .schema import POLARISATIONS  # noqa: F401
 
 
 # ---------------------------------------------------------------------------- the defaults
@@ -51,15 +47,11 @@ LAYER_SEPARATOR = "/"
 #: molecular inks (exact thin film, cheap): 10-nm steps and 46 uniform incidence angles
 FILM_WAVELENGTH_STEP_NM = 10.0
 FILM_SIGMA_COUNT = 46
-#: most incidence angles a table may have: 0.02° steps, far finer than any film or grain feature
-#: the linear interpolation in σ needs (a molecular table at 4096 angles is ~16 MB)
-MAX_ANGLES = 4096
 #: particle inks: 20-nm steps; solved incidence angles (90° is added as its analytic limit)
 PARTICLE_WAVELENGTH_STEP_NM = 20.0
 PARTICLE_SIGMA_DEG = (0.0, 15.0, 30.0, 45.0, 60.0, 70.0, 80.0)
 WAVELENGTH_RANGE_NM = (380.0, 780.0)
 DPHI_COUNT = 13
-TIERS = ("auto", "thin-film", "effective-medium", "born", "full")
 
 
 @dataclass(frozen=True)
@@ -85,16 +77,6 @@ ACCURACY = {
     "default": (WaveSettings(), PARTICLE_WAVELENGTH_STEP_NM),
     "fine": (WaveSettings(grid=(80, 80, 40), realizations=6), 10.0),
 }
-#: the CLI name of each option, for messages
-OPTION = {"thickness_nm": "--thickness", "wavelengths_nm": "--wavelengths", "sigma_rad": "--angles",
-          "cell_nm": "--cell", "grid": "--grid", "realizations": "--realizations",
-          "azimuths": "--azimuths", "dphi_count": "--dphi-count", "solver_tol": "--solver-tol",
-          "tolerance": "--tolerance", "seed": "--seed", "tier": "--tier",
-          "polarisation": "--polarisation", "accuracy": "--accuracy", "particles": "--particles",
-          "target_se": "--target-se", "max_realizations": "--max-realizations",
-          "local_field": "--local-field",
-          "ink": "--ink"}
-MIN_GRID = (8, 8, 4)
 
 
 # ---------------------------------------------------------------------------- typed parts
@@ -240,35 +222,6 @@ class TableRequest:
         return req
 
 
-# ---------------------------------------------------------------------------- parsing helpers
-def wavelength_range(text: str) -> tuple[float, ...]:
-    """'380:780:10' → 380, 390, …, 780 nm (inclusive); a single number gives one value."""
-    parts = str(text).split(":")
-    try:
-        values = [float(p) for p in parts]
-    except ValueError:
-        raise RequestError(f"--wavelengths {text!r}: expected START:STOP:STEP in nm, e.g. 380:780:10") from None
-    if not all(math.isfinite(v) for v in values):
-        raise RequestError(f"--wavelengths {text!r}: values must be finite numbers of nm")
-    if len(values) == 1:
-        return (values[0],)
-    if len(values) != 3 or values[2] <= 0 or values[1] < values[0]:
-        raise RequestError(f"--wavelengths {text!r}: expected START:STOP:STEP with STEP > 0 and STOP ≥ START")
-    start, stop, step = values
-    n = int(math.floor((stop - start) / step + 1e-9)) + 1
-    if n > 100_000:
-        raise RequestError(f"--wavelengths {text!r} asks for {n:,} wavelengths; use a step of ≥ 1 nm")
-    return tuple(float(v) for v in start + step * np.arange(n))
-
-
-def uniform_angles(count: int) -> tuple[float, ...]:
-    """`count` incidence angles uniformly from 0 to 90° inclusive (radians)."""
-    if not isinstance(count, (int, np.integer)) or not 2 <= count <= MAX_ANGLES:
-        raise RequestError(f"--angles is a count of incidence angles from 0° to 90° inclusive, 2 … {MAX_ANGLES}; "
-                           f"got {count!r}")
-    return tuple(float(s) for s in np.linspace(0.0, np.pi / 2, int(count)))
-
-
 def default_grids(accuracy: str, molecular: bool) -> tuple[tuple[float, ...], tuple[float, ...]]:
     """The default wavelengths (nm) and incidence angles (rad) of an ink's table: molecular inks
     every 10 nm and 46 uniform angles; particle inks the accuracy preset's step and the solved
@@ -363,80 +316,3 @@ def table_request(ink, particles="molecular", *, thickness_nm=None, accuracy: st
     req = TableRequest(layers, grids, wave, polarisation, materials, accuracy, local_field)
     validate(req)
     return req
-
-
-# ---------------------------------------------------------------------------- validation
-def _finite_positive(value, what: str) -> None:
-    if not (isinstance(value, (int, float, np.floating, np.integer)) and math.isfinite(value) and value > 0):
-        raise RequestError(f"{what} must be a positive finite number, got {value!r}")
-
-
-def validate(req: TableRequest) -> None:
-    """Refuse meaningless requests with one line naming the option (before any work)."""
-    if not req.layers:
-        raise RequestError("a table needs at least one layer (--ink)")
-    for layer in req.layers:
-        _finite_positive(layer.thickness_nm, f"{OPTION['thickness_nm']} (layer thickness, nm)")
-        if not layer.ink.components and not layer.molecular:
-            raise RequestError(f"--particles {layer.particles.label}: 'clear' has no pigment to make grains "
-                               "of; use --particles molecular")
-    wl = np.asarray(req.grids.wavelengths_nm)
-    if wl.size < 2 or not np.all(np.isfinite(wl)) or np.any(np.diff(wl) <= 0):
-        raise RequestError(f"{OPTION['wavelengths_nm']}: need ≥ 2 strictly increasing finite wavelengths (nm)")
-    try:
-        req.materials.check_range(wl, OPTION["wavelengths_nm"])
-    except ValueError as exc:
-        raise RequestError(str(exc)) from None
-    s = np.asarray(req.grids.sigma_rad)
-    if s.size > MAX_ANGLES:
-        raise RequestError(f"{OPTION['sigma_rad']}: {s.size:,} incidence angles; at most {MAX_ANGLES} "
-                           "(finer than the tables' interpolation needs, and the table grows with them)")
-    if s.size < 2 or not np.all(np.isfinite(s)) or abs(s[0]) > 1e-12 or abs(s[-1] - np.pi / 2) > 1e-12 \
-            or np.any(np.diff(s) <= 0):
-        raise RequestError(f"{OPTION['sigma_rad']}: incidence angles must increase strictly from 0° to 90°")
-    if not (isinstance(req.grids.dphi_count, (int, np.integer)) and req.grids.dphi_count >= 3):
-        raise RequestError(f"{OPTION['dphi_count']} must be an integer ≥ 3, got {req.grids.dphi_count!r}")
-    if req.polarisation not in POLARISATIONS:
-        raise RequestError(f"{OPTION['polarisation']} {req.polarisation!r}: choose one of {', '.join(POLARISATIONS)}")
-    if not isinstance(req.local_field, (bool, np.bool_)):
-        raise RequestError(f"{OPTION['local_field']} is on or off (a boolean), got {req.local_field!r}")
-    if req.wave is None:
-        return
-    w = req.wave
-    if len(req.layers) > 1:
-        if req.has_rough_top:
-            raise RequestError(f"--particles {req.particles_label}: a rough top inside a stack is not modelled; "
-                               "give the stacked particle layers flat faces")
-        try:
-            split_cells([layer.thickness_nm for layer in req.layers], int(w.grid[2]))
-        except ValueError as exc:
-            raise RequestError(str(exc)) from None
-    _finite_positive(w.cell_nm, f"{OPTION['cell_nm']} (cell period, nm)")
-    if len(w.grid) != 3 or any(not isinstance(n, (int, np.integer)) for n in w.grid) \
-            or any(n < m for n, m in zip(w.grid, MIN_GRID)):
-        raise RequestError(f"{OPTION['grid']} {' '.join(map(str, w.grid))}: need at least "
-                           f"{' '.join(map(str, MIN_GRID))} voxels (NX NY NZ) for a meaningful table")
-    for name in ("realizations", "azimuths"):
-        value = getattr(w, name)
-        if not isinstance(value, (int, np.integer)) or value < 1:
-            raise RequestError(f"{OPTION[name]} must be an integer ≥ 1, got {value!r}")
-    if not (isinstance(w.solver_tol, (int, float)) and math.isfinite(w.solver_tol) and 0 < w.solver_tol < 0.5):
-        raise RequestError(f"{OPTION['solver_tol']} (wave solver relative residual) must lie in (0, 0.5), "
-                           f"got {w.solver_tol!r}")
-    if not (isinstance(w.tolerance, (int, float)) and math.isfinite(w.tolerance) and 0 < w.tolerance <= 1):
-        raise RequestError(f"{OPTION['tolerance']} (allowed model error when choosing the tier) must lie in "
-                           f"(0, 1], got {w.tolerance!r}")
-    if w.target_se is not None and not (isinstance(w.target_se, (int, float)) and math.isfinite(w.target_se)
-                                        and 0 < w.target_se < 1):
-        raise RequestError(f"{OPTION['target_se']} (wanted standard error of Rbar and Tbar) must lie in (0, 1), "
-                           f"got {w.target_se!r}")
-    if not isinstance(w.max_realizations, (int, np.integer)) or w.max_realizations < w.realizations:
-        raise RequestError(f"{OPTION['max_realizations']} must be an integer ≥ --realizations "
-                           f"({w.realizations}), got {w.max_realizations!r}")
-    if not isinstance(w.seed, (int, np.integer)) or w.seed < 0:
-        raise RequestError(f"{OPTION['seed']} must be an integer ≥ 0, got {w.seed!r}")
-    if w.tier not in TIERS:
-        raise RequestError(f"{OPTION['tier']} {w.tier!r}: choose one of {', '.join(TIERS)}")
-    if w.tier == "thin-film":
-        raise RequestError(f"{OPTION['tier']} thin-film is for molecular inks; with particles use "
-                           "'effective-medium' for the mean-ε film")

@@ -1,0 +1,112 @@
+"""Refusing meaningless table requests before any work, with one line naming the option
+(`request.table_request` calls `validate` on every request it makes), and the names and limits
+it checks against."""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..geometry.stacking import split_cells
+from .schema import POLARISATIONS
+
+if TYPE_CHECKING:
+    from .request import TableRequest
+
+
+class RequestError(ValueError):
+    """A table request that cannot be computed as asked; the message names the option."""
+
+
+#: most incidence angles a table may have: 0.02° steps, far finer than any film or grain feature
+#: the linear interpolation in σ needs (a molecular table at 4096 angles is ~16 MB)
+MAX_ANGLES = 4096
+TIERS = ("auto", "thin-film", "effective-medium", "born", "full")
+#: the CLI name of each option, for messages
+OPTION = {"thickness_nm": "--thickness", "wavelengths_nm": "--wavelengths", "sigma_rad": "--angles",
+          "cell_nm": "--cell", "grid": "--grid", "realizations": "--realizations",
+          "azimuths": "--azimuths", "dphi_count": "--dphi-count", "solver_tol": "--solver-tol",
+          "tolerance": "--tolerance", "seed": "--seed", "tier": "--tier",
+          "polarisation": "--polarisation", "accuracy": "--accuracy", "particles": "--particles",
+          "target_se": "--target-se", "max_realizations": "--max-realizations",
+          "local_field": "--local-field",
+          "ink": "--ink"}
+MIN_GRID = (8, 8, 4)
+
+
+def _finite_positive(value, what: str) -> None:
+    if not (isinstance(value, (int, float, np.floating, np.integer)) and math.isfinite(value) and value > 0):
+        raise RequestError(f"{what} must be a positive finite number, got {value!r}")
+
+
+def validate(req: TableRequest) -> None:
+    """Refuse meaningless requests with one line naming the option (before any work)."""
+    if not req.layers:
+        raise RequestError("a table needs at least one layer (--ink)")
+    for layer in req.layers:
+        _finite_positive(layer.thickness_nm, f"{OPTION['thickness_nm']} (layer thickness, nm)")
+        if not layer.ink.components and not layer.molecular:
+            raise RequestError(f"--particles {layer.particles.label}: 'clear' has no pigment to make grains "
+                               "of; use --particles molecular")
+    wl = np.asarray(req.grids.wavelengths_nm)
+    if wl.size < 2 or not np.all(np.isfinite(wl)) or np.any(np.diff(wl) <= 0):
+        raise RequestError(f"{OPTION['wavelengths_nm']}: need ≥ 2 strictly increasing finite wavelengths (nm)")
+    try:
+        req.materials.check_range(wl, OPTION["wavelengths_nm"])
+    except ValueError as exc:
+        raise RequestError(str(exc)) from None
+    s = np.asarray(req.grids.sigma_rad)
+    if s.size > MAX_ANGLES:
+        raise RequestError(f"{OPTION['sigma_rad']}: {s.size:,} incidence angles; at most {MAX_ANGLES} "
+                           "(finer than the tables' interpolation needs, and the table grows with them)")
+    if s.size < 2 or not np.all(np.isfinite(s)) or abs(s[0]) > 1e-12 or abs(s[-1] - np.pi / 2) > 1e-12 \
+            or np.any(np.diff(s) <= 0):
+        raise RequestError(f"{OPTION['sigma_rad']}: incidence angles must increase strictly from 0° to 90°")
+    if not (isinstance(req.grids.dphi_count, (int, np.integer)) and req.grids.dphi_count >= 3):
+        raise RequestError(f"{OPTION['dphi_count']} must be an integer ≥ 3, got {req.grids.dphi_count!r}")
+    if req.polarisation not in POLARISATIONS:
+        raise RequestError(f"{OPTION['polarisation']} {req.polarisation!r}: choose one of {', '.join(POLARISATIONS)}")
+    if not isinstance(req.local_field, (bool, np.bool_)):
+        raise RequestError(f"{OPTION['local_field']} is on or off (a boolean), got {req.local_field!r}")
+    if req.wave is None:
+        return
+    w = req.wave
+    if len(req.layers) > 1:
+        if req.has_rough_top:
+            raise RequestError(f"--particles {req.particles_label}: a rough top inside a stack is not modelled; "
+                               "give the stacked particle layers flat faces")
+        try:
+            split_cells([layer.thickness_nm for layer in req.layers], int(w.grid[2]))
+        except ValueError as exc:
+            raise RequestError(str(exc)) from None
+    _finite_positive(w.cell_nm, f"{OPTION['cell_nm']} (cell period, nm)")
+    if len(w.grid) != 3 or any(not isinstance(n, (int, np.integer)) for n in w.grid) \
+            or any(n < m for n, m in zip(w.grid, MIN_GRID)):
+        raise RequestError(f"{OPTION['grid']} {' '.join(map(str, w.grid))}: need at least "
+                           f"{' '.join(map(str, MIN_GRID))} voxels (NX NY NZ) for a meaningful table")
+    for name in ("realizations", "azimuths"):
+        value = getattr(w, name)
+        if not isinstance(value, (int, np.integer)) or value < 1:
+            raise RequestError(f"{OPTION[name]} must be an integer ≥ 1, got {value!r}")
+    if not (isinstance(w.solver_tol, (int, float)) and math.isfinite(w.solver_tol) and 0 < w.solver_tol < 0.5):
+        raise RequestError(f"{OPTION['solver_tol']} (wave solver relative residual) must lie in (0, 0.5), "
+                           f"got {w.solver_tol!r}")
+    if not (isinstance(w.tolerance, (int, float)) and math.isfinite(w.tolerance) and 0 < w.tolerance <= 1):
+        raise RequestError(f"{OPTION['tolerance']} (allowed model error when choosing the tier) must lie in "
+                           f"(0, 1], got {w.tolerance!r}")
+    if w.target_se is not None and not (isinstance(w.target_se, (int, float)) and math.isfinite(w.target_se)
+                                        and 0 < w.target_se < 1):
+        raise RequestError(f"{OPTION['target_se']} (wanted standard error of Rbar and Tbar) must lie in (0, 1), "
+                           f"got {w.target_se!r}")
+    if not isinstance(w.max_realizations, (int, np.integer)) or w.max_realizations < w.realizations:
+        raise RequestError(f"{OPTION['max_realizations']} must be an integer ≥ --realizations "
+                           f"({w.realizations}), got {w.max_realizations!r}")
+    if not isinstance(w.seed, (int, np.integer)) or w.seed < 0:
+        raise RequestError(f"{OPTION['seed']} must be an integer ≥ 0, got {w.seed!r}")
+    if w.tier not in TIERS:
+        raise RequestError(f"{OPTION['tier']} {w.tier!r}: choose one of {', '.join(TIERS)}")
+    if w.tier == "thin-film":
+        raise RequestError(f"{OPTION['tier']} thin-film is for molecular inks; with particles use "
+                           "'effective-medium' for the mean-ε film")
