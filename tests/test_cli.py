@@ -39,6 +39,7 @@ def test_build_and_show(tmp_path, capsys):
     (["build", "--ink", "R5", "--thickness", "0", "-o", "x.npz"], "thickness"),
     (["build", "--ink", "R70+Y40", "-o", "x.npz"], "exceeds 100%"),
     (["show", "missing.npz"], "not found"),
+    (["build", "--ink", "G30", "--local-field", "--no-local-field", "-o", "x.npz"], "not allowed with"),
 ])
 def test_bad_input_is_one_line(tmp_path, monkeypatch, capsys, args, words):
     monkeypatch.chdir(tmp_path)

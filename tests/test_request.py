@@ -174,6 +174,10 @@ def test_local_field_default_follows_the_polarisation_and_is_in_the_key():
                                0.5 * (bulk.pigment_eps("Y", wl) + bulk.pigment_eps("B", wl)), rtol=1e-12)
     with pytest.raises(RequestError, match="--local-field"):
         table_request("G15", "sphere:100", local_field="yes")
+    assert "local-field pigment ε" in lf.describe() and "bulk pigment ε" in plain.describe()
+    # nothing to correct without pigment: clear varnish is one table either way
+    assert not table_request("clear").local_field
+    assert table_request("clear").key() == table_request("clear", local_field=False).key()
 
 
 def test_local_field_of_each_layer_of_a_stack():

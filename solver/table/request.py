@@ -202,7 +202,7 @@ class TableRequest:
 
     def describe(self) -> str:
         what = (f"{self.ink_label} {self.particles_label} H={'/'.join(f'{l.thickness_nm:g}' for l in self.layers)} nm"
-                f", {self.polarisation}")
+                f", {self.polarisation}, {'local-field' if self.local_field else 'bulk'} pigment ε")
         if self.molecular:
             return what
         w = self.wave
@@ -313,6 +313,8 @@ def table_request(ink, particles="molecular", *, thickness_nm=None, accuracy: st
     materials = materials or default_materials()
     if local_field is None:
         local_field = LOCAL_FIELD_DEFAULT.get(polarisation, True)   # an unknown one is refused below
+    if local_field is True and not any(layer.ink.components for layer in layers):
+        local_field = False                       # no pigment to correct: one table for clear varnish
     req = TableRequest(layers, grids, wave, polarisation, materials, accuracy, local_field)
     validate(req)
     return req
