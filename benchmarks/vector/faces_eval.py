@@ -60,7 +60,7 @@ def metrics(case: Case, ev: compare.Ensemble, es: compare.Ensemble) -> dict:
     return out
 
 
-def evaluate(cases, presets=tuple(TM_FACE_PRESETS), materials=runs.MATERIALS) -> dict:
+def evaluate(cases, presets=tuple(TM_FACE_PRESETS), materials=("volume", "localfield")) -> dict:
     """Print table 1 (and 2 where a case has several realizations); returns the metrics
     {(case index, material, preset): dict}."""
     results = {}
