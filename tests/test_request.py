@@ -41,6 +41,13 @@ def test_every_entry_point_makes_the_same_request(ink, particles):
     # the molecular default is one grid everywhere (it used to be 21 λ in scenes, 41 at the CLI)
     if particles == "molecular":
         assert len(library.grids.wavelengths_nm) == 41 and len(library.grids.sigma_rad) == 46
+    # the local field the same way from each: default, off, and te's default
+    off = table_request(ink, particles, local_field=False)
+    assert off == _cli_request("--ink", ink, "--particles", particles, "--no-local-field") \
+        == scene_request(Props(ink=ink, particles=particles, local_field=False))
+    te = table_request(ink, particles, polarisation="te")
+    assert not te.local_field and te == scene_request(Props(ink=ink, particles=particles, polarisation="te")) \
+        == _cli_request("--ink", ink, "--particles", particles, "--polarisation", "te")
 
 
 def test_demo_tables_are_the_cli_tables(tmp_path):
