@@ -178,7 +178,8 @@ def demo_render(rounds: int) -> None:
     for name, (render, load, cpu) in med.items():
         print(f"  {name:14s} render {render:5.2f} s, scene load {load:4.2f} s, process CPU {cpu:5.1f} s")
     a, b = med["with photo"], med["without photo"]
-    print(f"  with / without: render {a[0] / b[0]:.2f}×, load {a[1] / b[1]:.2f}×, CPU {a[2] / b[2]:.2f}×")
+    ratio = lambda x, y: f"{x / y:.2f}×" if y > 0 else "n/a (nothing to load without it)"   # noqa: E731
+    print(f"  with / without: render {ratio(a[0], b[0])}, load {ratio(a[1], b[1])}, CPU {ratio(a[2], b[2])}")
 
 
 def main(argv=None) -> None:
