@@ -15,7 +15,8 @@
 4. presets: each accuracy preset's colour error (ΔE2000) against `fine` and its build time on
    a few cells (tables kept in out/bench/presets_cache);
 5. fig7: the whole Fig. 7 at `preview` from an empty cache, timed (~25 min);
-6. steps: the map's colour steps between columns in the committed Fig. 7 CSV (the scale of 4).
+6. steps: the map's colour steps between columns in the committed Fig. 7 CSV (the scale of 4);
+7. compare: the committed `default` row of Fig. 7 against the same cells at `preview`.
 """
 
 from __future__ import annotations
@@ -178,23 +179,41 @@ STEP_PAIRS = (("molecular", "sphere:300"), ("sphere:100", "sphere:200"), ("molec
 def map_steps(csv_path: Path = Path("docs/data/fig7_preview.csv")) -> None:
     """The map's own colour steps between columns (ΔE2000 over the rows of a figure CSV), the
     scale the presets' errors are judged against."""
-    import csv
-
     from solver.separation.colour_space import delta_e2000
 
-    with open(csv_path, newline="") as fh:
-        rows = [r for r in csv.DictReader(fh) if r["status"] == "ok"]
-    lab = {(r["ink"], r["column"]): np.array([float(r[k]) for k in "Lab"]) for r in rows}
+    lab = _csv_lab(csv_path)
     print(f"\n6. the map's steps between columns, ΔE2000 over the rows ({csv_path}):")
     for a, b in STEP_PAIRS:
         de = [float(delta_e2000(lab[(ink, a)], lab[(ink, b)])) for ink, col in lab if col == a and (ink, b) in lab]
         print(f"   {a} → {b}: median {np.median(de):.1f} ({min(de):.1f}–{max(de):.1f}) over {len(de)} rows")
 
 
+def _csv_lab(path: Path) -> dict:
+    import csv
+
+    with open(path, newline="") as fh:
+        return {(r["ink"], r["column"]): np.array([float(r[k]) for k in "Lab"])
+                for r in csv.DictReader(fh) if r["status"] == "ok"}
+
+
+def preview_vs_default(preview: Path = Path("docs/data/fig7_preview.csv"),
+                       default: Path = Path("docs/data/fig7_default_R15.csv")) -> None:
+    """ΔE2000 between the cells a `default` CSV shares with the `preview` one."""
+    from solver.separation.colour_space import delta_e2000
+
+    a, b = _csv_lab(preview), _csv_lab(default)
+    common = sorted(set(a) & set(b))
+    de = np.array([float(delta_e2000(a[k], b[k])) for k in common])
+    worst = common[int(np.argmax(de))]
+    print(f"\n7. preview ({preview}) vs default ({default}): {len(common)} common cells, ΔE2000 median "
+          f"{np.median(de):.2f}, max {de.max():.2f} ({worst[0]} {worst[1]})")
+
+
 def main(argv=None) -> int:
     cache = TableCache(Path(tempfile.mkdtemp(prefix="figures_")))
     sections = {"plan": plan_costs, "se": lambda: se_check(cache), "draw": lambda: drawing(cache),
-                "presets": preset_errors, "fig7": fig7_preview, "steps": map_steps}
+                "presets": preset_errors, "fig7": fig7_preview, "steps": map_steps,
+                "compare": preview_vs_default}
     for name in (argv or sections):
         sections[name]()
     return 0
