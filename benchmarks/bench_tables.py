@@ -1,7 +1,9 @@
 """Table pipeline: one particle-ink table at default accuracy, and what each knob costs.
 
-    python -m benchmarks.bench_tables            # everything (~20–25 min on 2 cores)
-    python -m benchmarks.bench_tables --quick    # knob curves only (~5 min)
+    python -m benchmarks.bench_tables                    # everything (~8 min on 2 cores)
+    python -m benchmarks.bench_tables --quick            # knob curves only (~1 min)
+    python -m benchmarks.bench_tables --default-only     # the default table, old and new (~5 min)
+    python -m benchmarks.bench_tables --control-variate  # the Born control-variate study (~1 min)
 
 1. The default table (issue target: 21 wavelengths × 8 incidence angles in ≤ 15 min on this
    2-core machine): Y7.5+B7.5, 300-nm spheres, seconds per stage (geometry, tier probe, solve,
@@ -279,6 +281,8 @@ def main(argv=None) -> int:
     curves = {"wavelength step": wavelength_step_curve(), "angles": angle_count_curve(),
               "realizations": realizations_curve(), "grid": grid_curve()}
     plot(curves)
+    if not args.quick:
+        born_control_study()
     return 0
 
 
