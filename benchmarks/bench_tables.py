@@ -5,14 +5,17 @@
     python -m benchmarks.bench_tables --default-only     # the default table, old and new (~5 min)
     python -m benchmarks.bench_tables --control-variate  # the Born control-variate study (~1 min)
 
-1. The default table (issue target: 21 wavelengths × 8 incidence angles in ≤ 15 min on this
-   2-core machine): Y7.5+B7.5, 300-nm spheres, seconds per stage (geometry, tier probe, solve,
-   reduce) and the table's error estimates.
+1. The default table (issue target: ≤ 60 s wall on this 2-core machine with max SE of Rbar and
+   Tbar ≤ 0.011), old and new code side by side: Y7.5+B7.5, 300-nm spheres, seconds per stage
+   (geometry, tier probe, solve, reduce), solves, applications, seconds per solve against its
+   FFT floor, and the table's error estimates.
 2. Accuracy-vs-time curves of the table knobs, each against a reference computed here:
    realizations (standard error of Rbar, Tbar, R_spec and the diffuse BRDF), grid resolution
    (deviation from a 128×128×64 reference), the wavelength step (CIELAB ΔE of the ink on paper
    vs 1-nm sampling, thin film) and the number of incidence angles (interpolation error of the
    directional albedo, thin film).  Numbers on stdout, plot in out/bench/tables_accuracy_time.png.
+3. The Born solves as a control variate (tried, not built): correlation with the full solves,
+   cost, and the two-phase-sampling gain at equal cost (docs/tables.md).
 """
 
 from __future__ import annotations
