@@ -18,7 +18,7 @@ def test_build_and_show(tmp_path, capsys):
     table = read_table(out)
     np.testing.assert_array_equal(table.wavelengths, [400, 450, 500, 550, 600, 650, 700])
     assert table.sigma.size == 7 and table.meta["ink"] == "G30" and table.meta["thickness_nm"] == 1000
-    png, plot = tmp_path / "g.png", tmp_path / "s.png"
+    png, plot = tmp_path / "g.png", tmp_path / "new" / "s.png"          # a folder made for it
     assert main(["show", str(out), "--png", str(png), "--plot", str(plot)]) == 0
     text = capsys.readouterr().out
     assert "ink G30" in text and "hue" in text and "pigment ε local field" in text
@@ -40,6 +40,7 @@ def test_build_and_show(tmp_path, capsys):
     (["build", "--ink", "R70+Y40", "-o", "x.npz"], "exceeds 100%"),
     (["show", "missing.npz"], "not found"),
     (["build", "--ink", "G30", "--local-field", "--no-local-field", "-o", "x.npz"], "not allowed with"),
+    (["geometry", "--ink", "Y15", "--particles", "sphere:100", "--z", "5000"], "section must lie inside"),
 ])
 def test_bad_input_is_one_line(tmp_path, monkeypatch, capsys, args, words):
     monkeypatch.chdir(tmp_path)

@@ -172,3 +172,11 @@ def test_report_counts_trends_against_standard_errors(tmp_path):
     back = read_csv(write_csv(records, tmp_path / "r.csv"))
     assert [c.verdict for c in evaluate(back)] == [c.verdict for c in evaluate(records)]
     assert saturation(back[0].lab) == pytest.approx(0.5)
+
+
+def test_molecular_and_one_grain_size_is_a_size_step():
+    """Molecular counts as size 0: a figure with one particle column still tests finding 2."""
+    records = [record(ink, col, v, se=0.0 if col == "molecular" else 0.01)
+               for ink in ("G15", "R15") for col, v in (("molecular", 0.8), ("sphere:300", 0.4))]
+    two = [c for c in evaluate(records) if c.finding == 2]
+    assert len(two) == 2 and all(c.verdict == "agrees" for c in two)

@@ -20,9 +20,10 @@ def add_parser(sub) -> None:
                        formatter_class=DefaultsFormatter)
     p.add_argument("--ink", required=True, help="ink, e.g. R15, Y7.5+B7.5, G30 (volume percent)")
     p.add_argument("--particles", required=True,
-                   help="molecular | sphere:D[:agglutinated[=kT]][:rough[=f]][:spread=σ] | "
-                        "cylinder:D:isotropic|inplane|vertical[:tilt=DEG] (D in nm; tilt: orientation "
-                        "spread of aligned cylinders, degrees)")
+                   help="sphere:D[:agglutinated[=kT]][:rough[=f]][:spread=σ] | "
+                        "cylinder:D[:isotropic|inplane|vertical][:tilt=DEG][:spread=σ] (D: effective "
+                        "diameter in nm; cylinders isotropic by default; tilt: orientation spread of "
+                        "aligned cylinders, degrees)")
     p.add_argument("--thickness", type=float, default=1000.0, help="layer thickness, nm")
     p.add_argument("--cell", type=float, nargs="+", default=[2000.0], metavar="NM",
                    help="cell period in x (and y), nm")
@@ -67,6 +68,9 @@ def run(args) -> int:
     if len(args.cell) > 2:
         raise ValueError(f"--cell takes one or two lengths, got {len(args.cell)}")
     cell = (args.cell[0], args.cell[-1])
+    for option, value, top in (("--z", args.z, args.thickness), ("--y", args.y, cell[1])):
+        if value is not None and not 0.0 <= value <= top:
+            raise ValueError(f"{option} {value:g}: the section must lie inside the layer cell, 0 … {top:g} nm")
     layer = LayerSpec(ink, particles, thickness_nm=args.thickness, cell_nm=cell)
     update, close = progress_bar() if args.progress else (None, lambda: None)
     try:

@@ -109,7 +109,7 @@ def run(args) -> int:
         raise ValueError(f"--dphi {args.dphi}: the azimuth difference must lie in [0, 180] degrees")
     for option, path in (("--png", args.png), ("--plot", args.plot)):
         if path:
-            writable_output(path, ".png", option)
+            writable_output(path, ".png", option).parent.mkdir(parents=True, exist_ok=True)
     table = read_table(args.file)
     print(summary(table, args.paper))
     if args.png:

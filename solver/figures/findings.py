@@ -90,7 +90,8 @@ class _Grid:
             if key is not None:
                 groups.setdefault(key, []).append(col)
         mol = ["molecular"] if with_molecular and "molecular" in self.columns else []
-        return [mol + sorted(v, key=_size) for v in groups.values() if len(v) > 1]
+        series = (mol + sorted(v, key=_size) for v in groups.values())
+        return [s for s in series if len(s) > 1]      # molecular + one grain size is a step too
 
     def variant_pairs(self, attribute: str):
         """(plain column, modified column) pairs differing only in `attribute` (e.g. rough_top)."""

@@ -126,7 +126,7 @@ def spectra_panels(rows, columns, results: list[CellResult]) -> list[Panel]:
 
 def draw_spectra_figure(rows, columns, results, accuracy: str, path) -> None:
     caption = (f"Total transmittance Tbar (coherent + diffuse) of the layer at normal incidence; accuracy {accuracy}; "
-               "bands: ±2 standard errors across random cells.")
+               "bands: ±2 standard errors across random cells (none for one realization).")
     draw_spectra(spectra_panels(rows, columns, results), TITLES["fig9"], caption, path, "transmittance Tbar(0°)")
 
 

@@ -69,7 +69,8 @@ def validate(req: TableRequest) -> None:
     if req.polarisation not in POLARISATIONS:
         raise RequestError(f"{OPTION['polarisation']} {req.polarisation!r}: choose one of {', '.join(POLARISATIONS)}")
     if not isinstance(req.local_field, (bool, np.bool_)):
-        raise RequestError(f"{OPTION['local_field']} is on or off (a boolean), got {req.local_field!r}")
+        raise RequestError(f"{OPTION['local_field']} is on or off (a boolean), got {req.local_field!r}; "
+                           "in a scene write <boolean name=\"local_field\" value=\"false\"/>")
     if req.wave is None:
         return
     w = req.wave
