@@ -184,7 +184,7 @@ class ColourProgress:
         if self.bar is None:
             from tqdm import tqdm
 
-            self.bar = tqdm(total=total, unit=" colours", desc="separating", file=sys.stderr)
+            self.bar = tqdm(total=total, unit=" colours", desc="separating", file=sys.stderr, disable=None)
         self.bar.update(done - self.bar.n)
         if done >= total:
             self.close()

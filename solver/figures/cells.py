@@ -169,7 +169,7 @@ def build_cells(plans, opts: BuildOptions, seconds: list[float], progress: bool 
     """Build (or load) every planned table, in order; a failing cell is recorded and the run
     goes on.  The bar advances by each cell's estimate, so its ETA follows the estimate."""
     results = []
-    bar = tqdm(total=max(sum(seconds), 1e-9), disable=not progress, unit="s", unit_scale=True,
+    bar = tqdm(total=max(sum(seconds), 1e-9), disable=None if progress else True, unit="s", unit_scale=True,
                desc="cells", bar_format="{desc}: {percentage:3.0f}%|{bar}| [{elapsed}<{remaining}] {postfix}")
     try:
         for k, (plan, est) in enumerate(zip(plans, seconds)):

@@ -160,7 +160,7 @@ def run_units(fn: Callable, units: Sequence[Any], *, workers: int = 1, scheduler
     results: list = [None] * len(units)
     if not units:
         return results
-    bar = tqdm(total=len(units), desc=desc, unit="unit", disable=not progress, leave=False)
+    bar = tqdm(total=len(units), desc=desc, unit="unit", disable=None if progress else True, leave=False)
 
     def done(i: int, res: Any) -> None:
         results[i] = res
