@@ -212,6 +212,13 @@ def test_fig9_molecular_curves_are_the_film_transmittance(tmp_path):
     assert main(["paper", "fig9", "--rows", "G15,R15", "--columns", "molecular", "--no-progress",
                  "--cache", str(tmp_path / "cache"), "-o", str(out)]) == 0
     assert read_png(out).shape[0] > 300 and len(read_rows(out.with_suffix(".csv"))) == 2
+    # the plotted curves as numbers: one line per (curve, λ), the same values as the panels
+    with open(tmp_path / "f9_spectra.csv", newline="") as fh:
+        lines = list(csv.DictReader(fh))
+    g15 = [r for r in lines if r["curve"] == "G15%, molecular"]
+    assert len(lines) == 2 * len(g15) and len(g15) > 2 and {r["Tbar_se"] for r in g15} == {"0.000000"}
+    wl = np.array([float(r["wavelength_nm"]) for r in g15])
+    np.testing.assert_allclose([float(r["Tbar"]) for r in g15], film_transmittance("G15", wl), atol=1e-6)
 
 
 @pytest.mark.parametrize("args, words", [

@@ -34,6 +34,7 @@ class FigureOutput:
     csv: Path
     report: Path | None
     records: list[CellRecord]
+    spectra: Path | None = None          # Fig. 9: the plotted curves, one line per (curve, λ)
 
 
 def duration(seconds: float) -> str:
@@ -124,10 +125,29 @@ def spectra_panels(rows, columns, results: list[CellResult]) -> list[Panel]:
     return panels
 
 
-def draw_spectra_figure(rows, columns, results, accuracy: str, path) -> None:
+def draw_spectra_figure(rows, columns, results, accuracy: str, path) -> list[Panel]:
     caption = (f"Total transmittance Tbar (coherent + diffuse) of the layer at normal incidence; accuracy {accuracy}; "
                "bands: ±2 standard errors across random cells (none for one realization).")
-    draw_spectra(spectra_panels(rows, columns, results), TITLES["fig9"], caption, path, "transmittance Tbar(0°)")
+    panels = spectra_panels(rows, columns, results)
+    draw_spectra(panels, TITLES["fig9"], caption, path, "transmittance Tbar(0°)")
+    return panels
+
+
+def write_spectra_csv(panels: list[Panel], path) -> Path:
+    """The curves a spectra figure plots: panel, curve, wavelength_nm, Tbar, Tbar_se (empty when
+    unknown), one line per point."""
+    import csv
+
+    path = Path(path)
+    with open(path, "w", newline="", encoding="utf-8") as fh:
+        out = csv.writer(fh)
+        out.writerow(["panel", "curve", "wavelength_nm", "Tbar", "Tbar_se"])
+        for panel in panels:
+            for c in panel.curves:
+                for k, wl in enumerate(c.wavelengths_nm):
+                    se = "" if c.se is None else f"{c.se[k]:.6f}"
+                    out.writerow([panel.title, c.label, f"{wl:g}", f"{c.value[k]:.6f}", se])
+    return path
 
 
 def make_figure(figure: str, rows, columns, settings: FigureSettings, opts: BuildOptions, out_png,
@@ -150,10 +170,12 @@ def make_figure(figure: str, rows, columns, settings: FigureSettings, opts: Buil
     with pooled(opts) as running:                  # one pool of workers for every table of the figure
         built = build_cells(plans, running, seconds, progress=opts.progress)
     results, colours, pictures = evaluate_cells(built, geometry)
+    spectra = None
     if geometry is not None:
         draw_grid_figure(figure, rows, columns, pictures, settings.label, out_png, geometry)
     else:
-        draw_spectra_figure(rows, columns, results, settings.label, out_png)
+        panels = draw_spectra_figure(rows, columns, results, settings.label, out_png)
+        spectra = write_spectra_csv(panels, out_png.with_name(out_png.stem + "_spectra.csv"))
     records = [record_of(figure, r, settings.label, colours.get((r.plan.i, r.plan.j))) for r in results]
     csv_path = write_csv(records, out_png.with_suffix(".csv"))
     report = None
@@ -162,9 +184,10 @@ def make_figure(figure: str, rows, columns, settings: FigureSettings, opts: Buil
         report.write_text(findings.report(records, TITLES.get(figure, figure)), encoding="utf-8")
     failed = [r for r in records if not r.ok]
     built = sum(r.computed for r in records)
-    echo(f"wrote {out_png} and {csv_path}" + (f" and {report}" if report else "")
+    echo(f"wrote {out_png} and {csv_path}" + (f" and {spectra}" if spectra else "")
+         + (f" and {report}" if report else "")
          + f": {len(records) - len(failed)} cells drawn ({built} computed now), {len(failed)} failed, "
          + f"in {duration(time.perf_counter() - started)}")
     for r in failed:
         echo(f"  failed: {r.ink} × {r.grains}: {r.reason}")
-    return FigureOutput(out_png, csv_path, report, records)
+    return FigureOutput(out_png, csv_path, report, records, spectra)
