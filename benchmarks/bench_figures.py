@@ -189,11 +189,10 @@ def map_steps(csv_path: Path = Path("docs/data/fig7_preview.csv")) -> None:
 
 
 def _csv_lab(path: Path) -> dict:
-    import csv
+    """{(ink, column): CIELAB} of a figure CSV's built cells."""
+    from solver.figures.records import read_csv
 
-    with open(path, newline="") as fh:
-        return {(r["ink"], r["column"]): np.array([float(r[k]) for k in "Lab"])
-                for r in csv.DictReader(fh) if r["status"] == "ok"}
+    return {(r.ink, r.column): r.lab for r in read_csv(path) if r.ok}
 
 
 def preview_vs_default(preview: Path = Path("docs/data/fig7_preview.csv"),

@@ -119,8 +119,9 @@ def mie_matched_study(cases) -> None:
             q = lambda e: scalar_sphere_efficiencies(x, np.sqrt(e / eh))[0]   # noqa: E731
             mie = float(np.real(mie_cross_sections(a, lam, np.sqrt(ep), np.sqrt(eh))[2])) / (np.pi * a * a)
             dip = local_field_eps(ep, eh)
-            print(f"    {lam:4.0f} nm: {mie:.4f} | {q(ep):.4f} | {q(dip):.4f} | {q(matched_eps(ep, eh, a, lam, 'mieabs')):.4f}"
-                  f"   ε' dipole {dip:.3f}, " + ", ".join(f"{m} {matched_eps(ep, eh, a, lam, m):.3f}" for m in MODES))
+            matched = {m: matched_eps(ep, eh, a, lam, m) for m in MODES}
+            print(f"    {lam:4.0f} nm: {mie:.4f} | {q(ep):.4f} | {q(dip):.4f} | {q(matched['mieabs']):.4f}"
+                  f"   ε' dipole {dip:.3f}, " + ", ".join(f"{m} {e:.3f}" for m, e in matched.items()))
         variants = tuple((m, DEFAULT_TM_FACES) for m in ("localfield",) + MODES)
         vec, sca, missing = units_of(case, variants=variants)
         if missing:

@@ -184,7 +184,8 @@ def test_local_field_default_follows_the_polarisation_and_is_in_the_key():
     assert "local-field pigment ε" in lf.describe() and "bulk pigment ε" in plain.describe()
     # nothing to correct without pigment: clear varnish is one table either way
     assert not table_request("clear").local_field
-    assert table_request("clear").key() == table_request("clear", local_field=False).key()
+    assert table_request("clear").key() == table_request("clear", local_field=False).key() \
+        == table_request("clear", local_field=np.bool_(True)).key()
 
 
 def test_local_field_of_each_layer_of_a_stack():

@@ -10,14 +10,13 @@ one Δφ with --dphi).
 
 from __future__ import annotations
 
-
 import numpy as np
 
 from ..colour import lab_hue_chroma, reflectance_to_srgb8, reflectance_to_xyz, xyz_to_lab
 from ..figures.fig6 import plot_figure6
 from ..table import read_table
-from .parsing import DefaultsFormatter, writable_output
 from ..table.evaluate import column_at, directional_albedo
+from .parsing import DefaultsFormatter, writable_output
 
 
 def _column_at_deg(table, name: str, degrees: float) -> np.ndarray:

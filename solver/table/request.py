@@ -31,7 +31,7 @@ from ..inks import Ink, parse_ink
 from ..materials import MaterialData, default_materials
 from .fingerprint import code_fingerprint
 # the names and limits requests are checked against, re-exported: callers find them here
-from .request_checks import MAX_ANGLES, MIN_GRID, OPTION, TIERS, RequestError, validate  # noqa: F401
+from .request_checks import MAX_ANGLES, OPTION, TIERS, RequestError, validate  # noqa: F401
 from .schema import POLARISATIONS  # noqa: F401
 
 
@@ -313,7 +313,7 @@ def table_request(ink, particles="molecular", *, thickness_nm=None, accuracy: st
     materials = materials or default_materials()
     if local_field is None:
         local_field = LOCAL_FIELD_DEFAULT.get(polarisation, True)   # an unknown one is refused below
-    if local_field is True and not any(layer.ink.components for layer in layers):
+    if isinstance(local_field, (bool, np.bool_)) and not any(layer.ink.components for layer in layers):
         local_field = False                       # no pigment to correct: one table for clear varnish
     req = TableRequest(layers, grids, wave, polarisation, materials, accuracy, local_field)
     validate(req)
