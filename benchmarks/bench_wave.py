@@ -44,6 +44,7 @@ from solver.wave.validation import grating_errors, mie_relative_errors, slab_err
 from .baseline import ROOT, extract, run_python
 from .wave_checks import (cpu_time, energy_checks, loss_study, polarisation_cost, print_rows,
                           quiet_solve)
+from .wave_floor import floor_decomposition
 from .wave_table import table_methods, table_solves
 from .wave_tried import fft_libraries
 
@@ -342,6 +343,8 @@ def main(argv: list[str] | None = None) -> int:
         table_methods()
         return 0
     reference_runs(baseline)
+    floor_decomposition({"×".join(map(str, s)): reference_cell(s)
+                         for s in ((64, 64, 32), (128, 128, 64))}, LAM, SIGMA)
     if "--quick" in argv:
         return 0
     tol_rows = tolerance_curve()

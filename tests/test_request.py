@@ -124,6 +124,24 @@ def test_code_fingerprint_ignores_docstrings_and_comments(tmp_path):
     assert digest["a"] == digest["b"] != digest["c"]
 
 
+def test_code_fingerprint_hashes_the_solver_not_its_test_oracles():
+    """The wave key covers every solver module a table runs (operator, krylov, …) and leaves out
+    the independent references the tests use; leaving them out is safe only because no hashed
+    module imports them (checked on the syntax trees)."""
+    import ast
+    from solver.table.fingerprint import WAVE_MODULES, _source_files
+
+    hashed = [p for name in WAVE_MODULES for p in _source_files(name)]
+    names = {p.name for p in hashed if p.parent.name == "wave"}
+    assert {"operator.py", "krylov.py", "zkernels.py", "solve.py"} <= names
+    assert not {"oracles.py", "validation.py"} & names
+    for path in hashed:
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.ImportFrom):
+                assert not {"oracles", "validation"} & set((node.module or "").split(".")), path
+                assert not {"oracles", "validation"} & {a.name for a in node.names}, path
+
+
 @pytest.mark.parametrize("kwargs, option", [
     (dict(grid=(1, 1, 1)), "--grid"), (dict(grid=(3, 3, 3)), "--grid"),
     (dict(tolerance=-1.0), "--tolerance"), (dict(tolerance=math.nan), "--tolerance"),

@@ -17,9 +17,9 @@ from __future__ import annotations
 
 import numpy as np
 from scipy.optimize import brentq, least_squares
-from scipy.special import spherical_jn, spherical_yn
 
 from solver.materials import local_field_eps
+from solver.wave.oracles import mie_scalar_coefficients
 
 from .oracles import mie_cross_sections
 
@@ -28,15 +28,11 @@ MODES = ("mieabs", "mie2")
 
 def scalar_sphere_efficiencies(size_parameter: float, relative_index: complex, l_max: int = 40):
     """(Q_abs, Q_sca) of a scalar sphere (u and ∂u/∂r continuous) of x = k_host·a, m = √(ε/ε_h)."""
-    x, m = float(size_parameter), complex(relative_index)
-    l = np.arange(l_max + 1)
-    jx, djx = spherical_jn(l, x), spherical_jn(l, x, derivative=True)
-    hx = jx + 1j * spherical_yn(l, x)
-    dhx = djx + 1j * spherical_yn(l, x, derivative=True)
-    jm, djm = spherical_jn(l, m * x), spherical_jn(l, m * x, derivative=True)
-    a = (m * djm * jx - jm * djx) / (jm * dhx - m * djm * hx)
-    q_sca = 4 / x**2 * np.sum((2 * l + 1) * np.abs(a) ** 2)
-    q_ext = -4 / x**2 * np.sum((2 * l + 1) * a.real)
+    x = float(size_parameter)
+    a = mie_scalar_coefficients(complex(relative_index), x, l_max)
+    weight = 2 * np.arange(l_max + 1) + 1
+    q_sca = 4 / x**2 * np.sum(weight * np.abs(a) ** 2)
+    q_ext = -4 / x**2 * np.sum(weight * a.real)
     return q_ext - q_sca, q_sca
 
 

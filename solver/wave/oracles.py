@@ -40,19 +40,26 @@ def airy_te(n_in, n_slab, n_out, d_nm, lam_nm, sigma):
     return complex(r), complex(t), float(abs(r) ** 2), float(big_t)
 
 
+def mie_scalar_coefficients(m, x, lmax):
+    """Partial-wave coefficients a_l, l = 0 … lmax, of a penetrable sphere in the scalar
+    model (u and ∂u/∂r continuous at its surface): size parameter x = k·a in the host, relative
+    index m; the scattered wave is Σ (2l + 1) i^l a_l h_l(kr) P_l(cos θ)."""
+    ell = np.arange(int(lmax) + 1)
+    j, jp = spherical_jn(ell, x), spherical_jn(ell, x, True)
+    h = j + 1j * spherical_yn(ell, x)
+    hp = jp + 1j * spherical_yn(ell, x, True)
+    jm, jmp = spherical_jn(ell, m * x), spherical_jn(ell, m * x, True)
+    return (m * jmp * j - jp * jm) / (hp * jm - m * h * jmp)
+
+
 def mie_scalar_amplitude(m, k, a, cos_theta, lmax=None):
     """Far-field amplitude f(θ) (nm) of a sphere of radius a (nm), relative index m, in a
     medium of wavenumber k (1/nm): u_s → f(θ) e^{ikr}/r for a unit plane wave."""
     x = k * a
     lmax = lmax or int(x + 4 * x ** (1 / 3) + 10)
-    f = 0j
-    for ell in range(lmax + 1):
-        j, jp = spherical_jn(ell, x), spherical_jn(ell, x, True)
-        h = j + 1j * spherical_yn(ell, x)
-        hp = jp + 1j * spherical_yn(ell, x, True)
-        jm, jmp = spherical_jn(ell, m * x), spherical_jn(ell, m * x, True)
-        a_l = (m * jmp * j - jp * jm) / (hp * jm - m * h * jmp)
-        f = f + (2 * ell + 1) * a_l * eval_legendre(ell, cos_theta)
+    coef = mie_scalar_coefficients(m, x, lmax)
+    f = sum((2 * ell + 1) * coef[ell] * eval_legendre(ell, cos_theta)
+            for ell in range(lmax + 1))
     return -1j / k * f
 
 
