@@ -11,9 +11,10 @@ Every part is timed alone, on the solve's own operator and arrays, in CPU second
 - application: one whole application of G·V (scatter_zmajor), the three above and the glue;
 - Gram–Schmidt: the projection and subtraction passes GMRES makes over its basis in a solve of
   `apps` iterations (vecops.Basis.project and subtract with j = 1 … apps rows);
-- rest: the measured solve minus apps × application and the Gram–Schmidt passes (the
+- rest: the measured solve minus apps × application and the Gram–Schmidt passes: the
   right-hand side, the Krylov bookkeeping and the final combination, the orders, the energy
-  identity).
+  identity, and what the applications cost more inside the solve than alone (there, their input
+  and output are basis rows that come from and go to memory, not the cache).
 
 Bounds printed: the operator's own ratio (application / fft: what any Krylov method pays per
 application, before a single vector operation) and the GMRES ratio without the rest
@@ -112,5 +113,5 @@ def floor_decomposition(cells: dict, wavelength_nm: float, sigma_rad: float) -> 
     print("fft, z, contrast, application: per application; gram_schmidt, rest, solve: per "
           "solve. operator_ratio = application / fft: what every iteration pays before any "
           "vector operation; gmres_bound = (apps·application + gram_schmidt) / (apps·fft): "
-          "the ratio with nothing else; ratio = solve / (apps·fft)")
+          "the ratio with nothing else; ratio = solve / (apps·fft); rest: see the module doc")
     return rows

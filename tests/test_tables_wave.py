@@ -197,13 +197,18 @@ def test_tier_choice_is_measured_and_recorded(tmp_path):
 
 @pytest.mark.slow
 def test_identical_for_any_number_of_workers_and_on_dask(tmp_path):
+    import dask.config
     from distributed import LocalCluster
 
     req = small(azimuths=2)
     serial = build_table(req, opts(tmp_path / "a"))
     pool = build_table(req, opts(tmp_path / "b", workers=2))
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+    scratch = tmp_path / "dask-scratch"      # the workers' scratch space stays in the test's folder
+    with dask.config.set({"temporary-directory": str(scratch)}), \
+            LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
+                         local_directory=str(scratch)) as cluster:
         dask = build_table(req, opts(tmp_path / "c", scheduler=cluster.scheduler_address))
+    assert scratch.is_dir()
     for other in (pool, dask):
         for name in COLUMNS:
             np.testing.assert_array_equal(getattr(other, name), getattr(serial, name))
