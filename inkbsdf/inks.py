@@ -33,6 +33,8 @@ from .lut import InkLUT
 MAX_INKS = 4
 TABLE_PARAMS = ("filename", "ink")                       # what names an ink's table
 OWN_PARAMS = ("paper", "coverage", "coverage_model")     # the BSDF's own, never an ink's
+#: the parameters that take an ink's number (`coverage2`, `thickness2`, …)
+PER_INK_PARAMS = ("coverage",) + TABLE_PARAMS + tuple(source.REQUEST_PARAMS) + ("cache", "workers", "force")
 _NUMBERED = re.compile(r"^([A-Za-z_]+?)([0-9]+)$")
 _PLAIN = (mi.Properties.Type.String, mi.Properties.Type.Float, mi.Properties.Type.Integer,
           mi.Properties.Type.Bool)
@@ -97,23 +99,35 @@ def numbered_inks(props) -> list[int]:
         m = _NUMBERED.match(key)
         if m and m.group(1) in TABLE_PARAMS:
             numbers.add(int(m.group(2)))
-    if not numbers:
-        return []
-    if any(name in props for name in TABLE_PARAMS + ("coverage",)):
+    found = sorted(numbers)
+    if found and any(name in props for name in TABLE_PARAMS + ("coverage",)):
         raise InkParameterError("ink BSDF: give one ink ('filename' or 'ink', with 'coverage') or several "
                          "('filename1'/'ink1', … with 'coverage1', …), not both forms")
-    found = sorted(numbers)
     if found != list(range(1, len(found) + 1)) or len(found) > MAX_INKS:
         raise InkParameterError(f"ink BSDF: inks must be numbered 1 to k ≤ {MAX_INKS} without gaps "
                          f"('filename1'/'ink1', …); found {', '.join(map(str, found))}")
     for n in found:
         if f"filename{n}" in props and f"ink{n}" in props:
             raise InkParameterError(f"ink BSDF: ink {n}: give either 'filename{n}' or 'ink{n}', not both")
-    for key in props.keys():
-        m = _NUMBERED.match(key)
-        if m and m.group(1) == "coverage" and int(m.group(2)) not in numbers:
-            raise InkParameterError(f"ink BSDF: '{key}' names no ink (inks given: {', '.join(map(str, found))})")
+    check_ink_numbers(props.keys(), found)
     return found
+
+
+def check_ink_numbers(keys, numbers) -> None:
+    """InkParameterError for a numbered ink parameter (`coverage2`, `thickness3`, …) whose ink
+    is not given (`numbers`: the inks' numbers, [] for the single-ink form)."""
+    for key in keys:
+        m = _NUMBERED.match(key)
+        if not m or m.group(1) not in PER_INK_PARAMS or int(m.group(2)) in numbers:
+            continue
+        n = int(m.group(2))
+        if numbers:
+            given = f"inks given: {', '.join(map(str, numbers))}"
+        else:
+            given = (f"this BSDF has one ink, 'filename'/'ink': to print several, number every ink from 1 "
+                     f"('filename1'/'ink1' with 'coverage1', …); for the one ink, write '{m.group(1)}'")
+        raise InkParameterError(f"ink BSDF: '{key}' names no ink: it needs ink {n}, given as 'ink{n}' or "
+                                f"'filename{n}' ({given})")
 
 
 def _ink_properties(props, number: int):

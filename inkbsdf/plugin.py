@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import drjit as dr
 import mitsuba as mi
+import numpy as np
 
 from solver.printing import DEFAULT_COVERAGE_MODEL, check_coverage_model, possible_primaries, stack_order
 from solver.table import TableError
@@ -43,6 +44,44 @@ _MAX_MODELS = 64
 def _clamp01(x):
     x = dr.select(x > 0, x, 0.0)    # selects, not dr.clip: no NaN propagation
     return dr.select(x < 1, x, 1.0)
+
+
+def check_paper(texture) -> None:
+    """InkParameterError when the paper albedo, a float or a spectrum (RGB included: anything
+    not spatially varying), has a value outside [0, 1] over 360–830 nm, sampled every nm (a
+    typo such as 9 for 0.9 would otherwise be clamped unseen).
+
+    A spatially varying texture (a bitmap, …) is not read here, which would cost a pass over its
+    data at every load: its values are still clamped per lookup (`_incident`), as are values set
+    later through `mi.traverse`."""
+    if texture.is_spatially_varying():
+        return
+    values = spectrum_values(texture)
+    low, high = float(values.min()), float(values.max())
+    if low >= 0.0 and high <= 1.0:
+        return
+    if low == high:
+        got = f"got {low:g}"
+    else:
+        got = f"got a spectrum reaching {high:.3g}" if high > 1.0 else f"got a spectrum down to {low:.3g}"
+    raise InkParameterError(f"ink BSDF: parameter 'paper' is an albedo and must lie in [0, 1], {got}: "
+                            'correct it (e.g. <float name="paper" value="0.9"/>)')
+
+
+def spectrum_values(texture, n_groups: int = 118) -> np.ndarray:
+    """A texture that is not spatially varying, evaluated at 4·`n_groups` wavelengths evenly
+    spread over [MI_CIE_MIN, MI_CIE_MAX] nm (about 1 nm apart by default)."""
+    groups = np.linspace(mi.MI_CIE_MIN, mi.MI_CIE_MAX, 4 * n_groups).reshape(n_groups, 4)
+    if dr.is_jit_v(mi.Float):           # one evaluation over n_groups lanes
+        si = dr.zeros(mi.SurfaceInteraction3f, n_groups)
+        si.wavelengths = mi.UnpolarizedSpectrum(*[mi.Float(column) for column in groups.T])
+        return np.concatenate([np.ravel(np.asarray(c)) for c in texture.eval(si)])
+    out = []
+    for group in groups:                # scalar variants: one lane at a time
+        si = dr.zeros(mi.SurfaceInteraction3f)
+        si.wavelengths = mi.UnpolarizedSpectrum(*group)
+        out.extend(float(c) for c in texture.eval(si))
+    return np.asarray(out)
 
 
 def _lobes(ctx):
@@ -93,10 +132,11 @@ def _define_class():
                     str(props.get("coverage_model", DEFAULT_COVERAGE_MODEL)))
             except ValueError as exc:
                 raise InkParameterError(f"ink BSDF: {exc}") from None
+            self.paper = props.get_texture("paper", DEFAULT_PAPER_ALBEDO)
+            check_paper(self.paper)                 # before any table is read or built
             self.coverage_names = coverage_names(props)
             self.inks = load_inks(props)
             self.lut = self.inks[0].lut
-            self.paper = props.get_texture("paper", DEFAULT_PAPER_ALBEDO)
             self.coverages = [props.get_texture(name, DEFAULT_COVERAGE) for name in self.coverage_names]
             self._stacks = {}
             self.primaries = None

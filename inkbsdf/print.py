@@ -48,6 +48,7 @@ def parse_size(text: str) -> tuple:
 
 def build_parser() -> argparse.ArgumentParser:
     from solver.separation import AUTO_MODEL, INTENTS
+    from solver.separation import halftone as ht
     from solver.printing import COVERAGE_MODELS
 
     p = _Parser(prog="python -m inkbsdf.print", description=__doc__.split("\n\n")[0],
@@ -59,8 +60,9 @@ def build_parser() -> argparse.ArgumentParser:
                         "(what a render of binary dots shows), clapper-yule for --dots none")
     p.add_argument("--dots", default="none", help="AM:LPI (screen ruling, lines per inch), FM, or none (continuous)")
     p.add_argument("--dpi", type=float, default=None,
-                   help="texture resolution, texels per inch (default: none one per image pixel, AM 8 per "
-                        "screen period, FM 600)")
+                   help=f"texture resolution, texels per inch (default: one per image pixel for --dots none, "
+                        f"{ht.AM_TEXELS_PER_CELL} per screen period for AM, {ht.FM_DPI:g} for FM; at least "
+                        f"{ht.AM_MIN_TEXELS_PER_CELL} per screen period for AM, {ht.FM_MIN_DPI:g} for FM)")
     p.add_argument("--paper", type=float, default=0.9, help="paper albedo in [0, 1]")
     p.add_argument("--size", default="12", help="print size in cm: WIDTHxHEIGHT, or WIDTH (height from the image)")
     p.add_argument("--intent", default="relative", choices=INTENTS,
@@ -73,6 +75,7 @@ def build_parser() -> argparse.ArgumentParser:
 def settings_from(args):
     """Typed settings from the parsed arguments (UsageError naming the option otherwise)."""
     from solver.separation import DotsError, InkListError, PrintSettings, parse_dots, parse_ink_list
+    from solver.separation.halftone import check_dpi
 
     try:
         inks = parse_ink_list(args.inks)
@@ -83,6 +86,11 @@ def settings_from(args):
         raise UsageError(f"--paper: the paper albedo must lie in [0, 1], got {args.paper:g}")
     if args.dpi is not None and not 1.0 <= args.dpi <= 20000.0:
         raise UsageError(f"--dpi: give a resolution in [1, 20000] texels per inch, got {args.dpi:g}")
+    if args.dpi is not None:
+        try:
+            check_dpi(dots, args.dpi)                   # a dot must fit: before the image is read
+        except DotsError as exc:
+            raise UsageError(f"--{exc}") from None
     return PrintSettings(inks=inks, dots=dots, coverage_model=args.coverage_model, paper=args.paper,
                          size_cm=parse_size(args.size), dpi=args.dpi, intent=args.intent)
 

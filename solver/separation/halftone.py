@@ -11,7 +11,8 @@ texel (255) where its threshold (`screens`) is below the coverage, else 0.
 
 Default texture resolution (`TexelGrid.for_print`): `none` one texel per image pixel; AM
 `AM_TEXELS_PER_CELL` texels per screen period (1200 dpi at 150 lpi); FM `FM_DPI` (a dot of
-42 µm). `dpi` overrides it.
+42 µm). `dpi` overrides it, down to `min_dpi`: AM `AM_MIN_TEXELS_PER_CELL` texels per screen
+period, FM `FM_MIN_DPI` (`check_dpi`).
 """
 
 from __future__ import annotations
@@ -26,7 +27,18 @@ from .screens import am_threshold, fm_threshold
 
 CM_PER_INCH = 2.54
 AM_TEXELS_PER_CELL = 8
+MIN_LPI, MAX_LPI = 0.5, 600.0       # AM screen rulings accepted, lines per inch
 FM_DPI = 600.0
+# The smallest AM cell that draws a dot: `am_threshold` samples the spot function once per
+# texel, so below 2 texels per period the screen aliases (its period is lost), and at 2–3 a
+# cell has 4–9 texels (5–10 tone steps): the dot is one texel, a cross or the whole cell. From
+# 4 (a 4×4 cell, 17 tone steps) it grows from one texel through a cross and a disc to the 50 %
+# checkerboard.
+AM_MIN_TEXELS_PER_CELL = 4
+# FM dots are single texels, so the resolution is the dot size: below 60 dpi a dot is over
+# 0.42 mm (ten times the default FM_DPI's 42 µm), a coarse grain rather than a screen, and a
+# 12-cm print has under 300 texels across.
+FM_MIN_DPI = 60.0
 ROWS_PER_CHUNK = 256
 DOT_KINDS = ("none", "AM", "FM")
 
@@ -60,8 +72,9 @@ def parse_dots(text: str) -> Dots:
     m = re.fullmatch(r"(?i:am):([0-9]*\.?[0-9]+)", t)
     if m:
         lpi = float(m.group(1))
-        if not 0.5 <= lpi <= 600.0:
-            raise DotsError(f"dots: the screen ruling must lie in [0.5, 600] lines per inch, got {lpi:g}")
+        if not MIN_LPI <= lpi <= MAX_LPI:
+            raise DotsError(f"dots: the screen ruling must lie in [{MIN_LPI:g}, {MAX_LPI:g}] lines per inch, "
+                            f"got {lpi:g}")
         return Dots("AM", lpi)
     raise DotsError(f"dots: give AM:LPI (e.g. AM:150, lines per inch), FM or none; got {text!r}")
 
@@ -90,6 +103,8 @@ class TexelGrid:
         if dpi is None and dots.kind == "none":
             rows, cols = int(image_shape[0]), int(image_shape[1])
         else:
+            if dpi is not None:
+                check_dpi(dots, dpi)
             dpi = default_dpi(dots) if dpi is None else float(dpi)
             cols = max(1, round(w_cm / CM_PER_INCH * dpi))
             rows = max(1, round(h_cm / CM_PER_INCH * dpi))
@@ -102,6 +117,35 @@ class TexelGrid:
 def default_dpi(dots: Dots) -> float:
     """Texels per inch when not given: AM_TEXELS_PER_CELL per screen period, FM_DPI for FM."""
     return AM_TEXELS_PER_CELL * dots.lpi if dots.kind == "AM" else FM_DPI
+
+
+def min_dpi(dots: Dots) -> float:
+    """The coarsest texture resolution (texels per inch) that draws `dots`: AM
+    AM_MIN_TEXELS_PER_CELL per screen period, FM FM_MIN_DPI; 0 for continuous textures."""
+    if dots.kind == "AM":
+        return AM_MIN_TEXELS_PER_CELL * dots.lpi
+    return FM_MIN_DPI if dots.kind == "FM" else 0.0
+
+
+def check_dpi(dots: Dots, dpi: float) -> None:
+    """DotsError (naming --dpi and --dots, and the fix) when `dpi` texels per inch cannot draw
+    `dots`."""
+    lowest = min_dpi(dots)
+    if float(dpi) >= lowest:
+        return
+    if dots.kind == "AM":
+        coarser = _down(dpi / AM_MIN_TEXELS_PER_CELL)
+        screen = f", or a coarser screen (--dots AM:{coarser:g} or less)" if coarser >= MIN_LPI else ""
+        raise DotsError(f"dpi: {dpi:g} texels per inch is too coarse for --dots AM:{dots.lpi:g} "
+                        f"({_down(dpi / dots.lpi):g} texels per screen period, a dot needs at least "
+                        f"{AM_MIN_TEXELS_PER_CELL}): give --dpi {math.ceil(lowest):d} or more{screen}")
+    raise DotsError(f"dpi: {dpi:g} texels per inch is too coarse for --dots FM (one-texel dots of "
+                    f"{10 * CM_PER_INCH / dpi:.2g} mm): give --dpi {lowest:g} or more (default {FM_DPI:g})")
+
+
+def _down(x: float) -> float:
+    """`x` rounded down to 2 decimals (a bound quoted in a message stays on its side)."""
+    return math.floor(100 * x) / 100
 
 
 def _axis_weights(n_out: int, n_in: int):
