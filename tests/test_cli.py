@@ -102,3 +102,123 @@ def test_unwritable_outputs_refused_before_any_work(where, tmp_path, capsys):
                                      tmp_path / "c", "-o", target], capsys)
     assert status == 2 and "-o" in err and "cannot write" in err
     assert not (tmp_path / "c" / "tables").exists() or not any((tmp_path / "c" / "tables").iterdir())
+
+
+# ---------------------------------------------------------------- from a new-user trial (CLI problems)
+TINY = ["--wavelengths", "400:700:100", "--angles", "3"]
+
+
+def _warnings(err: str) -> list[str]:
+    return [line for line in err.splitlines() if line.startswith("warning:")]
+
+
+def test_paper_makes_its_output_folders_and_counts_what_this_run_did(tmp_path, capsys):
+    """-o and --report in folders that do not exist yet: made before any work; a rerun says
+    its cells came from the cache, on the console and in the report alike."""
+    png, report = tmp_path / "fig" / "f.png", tmp_path / "notes" / "deep" / "f.md"
+    argv = ["paper", "fig7", "--rows", "R15", "--columns", "molecular", *TINY, "--no-progress",
+            "--cache", tmp_path / "cache", "-o", png, "--report", report]
+    status, out, err = run_main(main, argv, capsys)
+    assert status == 0, err
+    assert png.exists() and png.with_suffix(".csv").exists() and report.exists()
+    assert "= 1 cell," in out and "1 cells" not in out and not _warnings(err)
+    assert "1 cell: 1 drawn (1 computed by this run, 0 from the cache), 0 failed" in out
+    status, out, _ = run_main(main, argv, capsys)
+    again = "1 cell: 1 drawn (0 computed by this run, 1 from the cache), 0 failed"
+    assert status == 0 and again in out and again in report.read_text()
+
+
+@pytest.mark.parametrize("option", ["-o", "--report"])
+def test_paper_refuses_an_output_folder_it_cannot_make_before_any_work(option, tmp_path, capsys):
+    (tmp_path / "plain").write_text("x")
+    outputs = {"-o": tmp_path / "f.png", "--report": tmp_path / "f.md"}
+    outputs[option] = tmp_path / "plain" / "sub" / outputs[option].name
+    status, _, err = run_main(main, ["paper", "fig7", "--rows", "R15", "--columns", "molecular", *TINY,
+                                     "--cache", tmp_path / "cache", "-o", outputs["-o"],
+                                     "--report", outputs["--report"]], capsys)
+    assert status == 2 and err.count("\n") == 1 and f"{option} '" in err and "cannot write" in err, err
+    assert not (tmp_path / "cache" / "tables").exists() or not any((tmp_path / "cache" / "tables").iterdir())
+
+
+def test_particle_options_on_a_molecular_ink_are_one_warning_line(tmp_path, capsys):
+    status, _, err = run_main(main, ["build", "--ink", "G30", *TINY, "--realizations", "3", "--accuracy", "fine",
+                                     "--cache", tmp_path / "cache", "-o", tmp_path / "g.npz"], capsys)
+    assert status == 0, err
+    assert _warnings(err) == ["warning: G30 is molecular (an exact thin film): --accuracy, --realizations ignored"]
+    assert "UserWarning" not in err and "build.py" not in err and "return table_request" not in err
+
+
+@pytest.mark.parametrize("columns, warned", [("molecular", True), ("molecular,sphere:100", False)])
+def test_paper_warns_of_particle_options_only_without_particle_columns(columns, warned, tmp_path, capsys):
+    """The warning comes before any work: an unwritable -o stops the run right after it."""
+    status, _, err = run_main(main, ["paper", "fig7", "--rows", "R15", "--columns", columns, "--grid", "8", "8", "8",
+                                     "--cache", tmp_path / "cache", "-o", "/proc/inkbsdf-test/f.png"], capsys)
+    assert status == 2 and "cannot write" in err
+    expected = ["warning: every column is molecular (an exact thin film): --grid ignored"] if warned else []
+    assert _warnings(err) == expected
+
+
+def test_verbose_before_or_after_the_subcommand_adds_debug_lines(tmp_path):
+    from solver.cli import make_parser
+
+    argv = ["build", "--ink", "G30", *TINY, "--cache", str(tmp_path / "cache"), "-o", str(tmp_path / "g.npz")]
+    assert [make_parser().parse_args(a).verbose for a in (argv, ["-v"] + argv, argv + ["-v"], argv + ["--verbose"])] \
+        == [False, True, True, True]
+    for extra, debug in (([], False), (["-v"], True)):          # as a user sees it: the installed entry point
+        res = subprocess.run([sys.executable, "-m", "solver.cli", *argv, *extra], capture_output=True, text=True)
+        assert res.returncode == 0, res.stderr
+        assert ("DEBUG ink-tables: request G30" in res.stderr) == debug, res.stderr
+        assert "cache key" in res.stderr if debug else "DEBUG" not in res.stderr
+
+
+def test_help_says_verbose_after_the_subcommand(capsys):
+    with pytest.raises(SystemExit):
+        main(["build", "--help"])
+    flat = " ".join(capsys.readouterr().out.split())
+    assert "-v, --verbose also log debug details" in flat and "after the subcommand" in flat
+
+
+def test_version(capsys):
+    from importlib.metadata import version
+
+    with pytest.raises(SystemExit) as exc:
+        main(["--version"])
+    assert exc.value.code == 0 and capsys.readouterr().out.strip() == f"ink-tables {version('inkbsdf')}"
+
+
+@pytest.mark.parametrize("command", ["build", "geometry"])
+def test_help_marks_the_cylinder_orientation_optional(command, capsys):
+    with pytest.raises(SystemExit):
+        main([command, "--help"])
+    flat = "".join(capsys.readouterr().out.split())
+    assert "cylinder:D[:isotropic|inplane|vertical]" in flat and "cylinder:D:isotropic" not in flat
+
+
+def test_one_thickness_applies_to_every_layer_and_show_adds_them(tmp_path, capsys):
+    out = tmp_path / "s.npz"
+    status, _, err = run_main(main, ["build", "--ink", "Y15/B15", "--thickness", "800", *TINY,
+                                     "--cache", tmp_path / "cache", "-o", out], capsys)
+    assert status == 0 and not _warnings(err), err
+    assert list(read_table(out).meta["thickness_nm"]) == [800, 800]
+    status, text, _ = run_main(main, ["show", out], capsys)
+    assert status == 0 and "thickness 800 + 800 nm" in text
+    with pytest.raises(SystemExit):
+        main(["build", "--help"])
+    assert "one value for every layer" in " ".join(capsys.readouterr().out.split())
+
+
+def test_a_layer_thinner_than_50_nm_is_warned_of(tmp_path, capsys):
+    """µm typed as nm: built (a thin film is legal), with one warning line."""
+    status, _, err = run_main(main, ["build", "--ink", "G30", "--thickness", "1", *TINY,
+                                     "--cache", tmp_path / "cache", "-o", tmp_path / "g.npz"], capsys)
+    assert status == 0, err
+    (line,) = _warnings(err)
+    assert line.startswith("warning: --thickness 1:") and "50 nm" in line and "µm" in line
+
+
+def test_cell_failures_show_the_message_of_a_refusal():
+    from solver.figures.cells import failure_reason
+
+    assert failure_reason(ValueError("cylinder:300:vertical cannot\n hold R50")) == \
+        "cylinder:300:vertical cannot hold R50"
+    assert failure_reason(KeyError("tier")) == "KeyError: 'tier'"           # a bug keeps its class

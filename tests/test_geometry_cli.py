@@ -30,6 +30,7 @@ def test_geometry_bad_input_gives_one_error_line(capsys):
         (["--ink", "B70", "--particles", "sphere:100"], ["reachable limit"]),
         (["--ink", "B15", "--particles", "sphere:-20"], ["negative particle size"]),
         (["--ink", "B15", "--particles", "sphere:600"], ["larger than the layer"]),
+        (["--ink", "clear", "--particles", "sphere:100"], ["'clear' has no pigment to make grains of"]),
     ]:
         rc = main(["geometry"] + args + SMALL)
         err = capsys.readouterr().err.strip()

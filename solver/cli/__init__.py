@@ -13,16 +13,37 @@ import os
 import signal
 import sys
 import threading
+import warnings
 
-from .parsing import OneLineParser
+from .parsing import OneLineParser, print_warning
 
 SUBCOMMANDS = ("build", "show", "geometry", "paper")
+VERBOSE_HELP = ("also log debug details (the request and its cache key, the options in effect); "
+                "before or after the subcommand")
+log = logging.getLogger("ink-tables")
+
+
+def package_version() -> str:
+    """The installed package's version, else the source tree's."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("inkbsdf")
+    except PackageNotFoundError:
+        from solver import __version__
+
+        return f"{__version__} (not installed)"
+
+
+def add_verbose(parser: argparse.ArgumentParser, default=False) -> None:
+    parser.add_argument("-v", "--verbose", action="store_true", default=default, help=VERBOSE_HELP)
 
 
 def make_parser() -> argparse.ArgumentParser:
     parser = OneLineParser(
         prog="ink-tables", description="Tables of printed-ink reflectance for the inkbsdf Mitsuba plugin.")
-    parser.add_argument("-v", "--verbose", action="store_true", help="log progress details")
+    add_verbose(parser)
+    parser.add_argument("--version", action="version", version=f"%(prog)s {package_version()}")
     sub = parser.add_subparsers(dest="command", required=True)
     for name in SUBCOMMANDS:
         try:
@@ -32,7 +53,18 @@ def make_parser() -> argparse.ArgumentParser:
                 continue          # subcommand not installed in this build
             raise
         module.add_parser(sub)
+    for command in sub.choices.values():
+        add_verbose(command, default=argparse.SUPPRESS)   # after the subcommand too, keeping one before it
     return parser
+
+
+def configure_logging(verbose: bool) -> None:
+    """What a build computes and reuses is logged always (INFO of inkbsdf.tables); -v adds the
+    DEBUG lines of this package (not of the libraries it uses)."""
+    logging.basicConfig(level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s")
+    logging.getLogger("inkbsdf").setLevel(logging.DEBUG if verbose else logging.NOTSET)
+    logging.getLogger("inkbsdf.tables").setLevel(logging.DEBUG if verbose else logging.INFO)
+    log.setLevel(logging.DEBUG if verbose else logging.NOTSET)
 
 
 def _terminated(signum, _frame):
@@ -45,10 +77,18 @@ def _os_error(exc: OSError) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """The command; returns the exit status (2: bad input, told in one line on stderr).
+    Warnings are said as one `warning: …` line each on stderr."""
+    with warnings.catch_warnings():
+        warnings.showwarning = print_warning
+        return _main(argv)
+
+
+def _main(argv: list[str] | None) -> int:
     args = make_parser().parse_args(argv)
-    logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING,
-                        format="%(levelname)s %(name)s: %(message)s")
-    logging.getLogger("inkbsdf.tables").setLevel(logging.INFO)   # what a build computes, and reuses
+    configure_logging(args.verbose)
+    log.debug("ink-tables %s, Python %s; options %s", package_version(), sys.version.split()[0],
+              {k: v for k, v in vars(args).items() if k != "func" and v is not None})
     if threading.current_thread() is threading.main_thread():
         signal.signal(signal.SIGTERM, _terminated)
     prefix = f"ink-tables {args.command}"

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import logging
 import time
+import warnings
 from pathlib import Path
 
 from ..table.atomic import atomic_copy
@@ -13,7 +14,8 @@ from ..table.cache import TableCache
 from ..table.executor import default_workers
 from ..table.request import (ACCURACY, DEFAULT_POLARISATION, DEFAULT_THICKNESS_NM, POLARISATIONS, TIERS,
                              TableRequest, WaveSettings, table_request)
-from .parsing import DefaultsFormatter, uniform_angles, wavelength_range, writable_output
+from ..table.request_checks import thin_layers_warning
+from .parsing import PARTICLE_GRAMMAR, DefaultsFormatter, uniform_angles, wavelength_range, writable_output
 
 log = logging.getLogger("ink-tables")
 _WAVE = WaveSettings()
@@ -24,11 +26,11 @@ def add_request_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--ink", required=True,
                    help="ink spec in volume percent: R15, Y7.5+B7.5, G30, clear; 'Y15/B15' prints Y15 over B15")
     p.add_argument("--particles", default="molecular",
-                   help="molecular | sphere:D[:agglutinated[=kT]][:rough[=f]][:spread=σ] | "
-                        "cylinder:D:isotropic|inplane|vertical[:tilt=deg][:spread=σ] "
-                        "(D = (effective) diameter in nm; σ of ln D; kT well depth; f protruding fraction)")
+                   help=f"molecular | {PARTICLE_GRAMMAR} (D = (effective) diameter in nm; cylinders isotropic by "
+                        "default; σ of ln D; kT well depth; f protruding fraction); 'a/b' per layer of a stack")
     p.add_argument("--thickness", default=None, metavar="NM[,NM…]",
-                   help=f"layer thickness in nm, one per layer of a stack (default {DEFAULT_THICKNESS_NM:g})")
+                   help="layer thickness in nm: one value for every layer, or one per layer of a stack, top "
+                        f"first, e.g. 800,1000 (default {DEFAULT_THICKNESS_NM:g} each)")
     p.add_argument("--wavelengths", default=None, metavar="START:STOP:STEP",
                    help="wavelengths in nm (default 380:780:10 for molecular inks, 380:780:20 for particles "
                         "at the default accuracy)")
@@ -105,11 +107,15 @@ def request_from_args(args) -> TableRequest:
         ("tier", args.tier), ("cell_nm", args.cell), ("grid", tuple(args.grid) if args.grid else None),
         ("solver_tol", args.solver_tol), ("seed", args.seed), ("target_se", args.target_se),
         ("max_realizations", args.max_realizations)) if value is not None}
-    return table_request(
+    request = table_request(
         args.ink, args.particles, thickness_nm=thickness, accuracy=args.accuracy,
         wavelengths_nm=wavelength_range(args.wavelengths) if args.wavelengths else None,
         sigma_rad=uniform_angles(args.angles) if args.angles is not None else None,
         polarisation=args.polarisation, local_field=args.local_field, **overrides)
+    thin = thin_layers_warning([layer.thickness_nm for layer in request.layers])
+    if thin:
+        warnings.warn(thin, stacklevel=2)
+    return request
 
 
 def options_from_args(args) -> BuildOptions:
@@ -123,6 +129,8 @@ def run(args) -> int:
     request = request_from_args(args)
     opts = options_from_args(args)
     writable_output(args.output, ".npz", "-o")
+    log.debug("request %s; cache key %s; cache %s; %s", request.describe(), request.key(), opts.cache.root,
+              f"scheduler {opts.scheduler}" if opts.scheduler else f"{opts.workers} worker(s)")
     t0 = time.perf_counter()
     table, cached_path, built = get_or_build(request, opts)
     out = Path(args.output)

@@ -9,10 +9,9 @@ exactly through the particles and through the voxel grid the wave solver uses.
 
 from __future__ import annotations
 
-import os
-
 from ..inks import parse_ink
-from .parsing import DefaultsFormatter, writable_output
+from ..table.request_checks import refuse_grains_without_pigment
+from .parsing import PARTICLE_GRAMMAR, DefaultsFormatter, writable_output
 
 
 def add_parser(sub) -> None:
@@ -20,10 +19,9 @@ def add_parser(sub) -> None:
                        formatter_class=DefaultsFormatter)
     p.add_argument("--ink", required=True, help="ink, e.g. R15, Y7.5+B7.5, G30 (volume percent)")
     p.add_argument("--particles", required=True,
-                   help="sphere:D[:agglutinated[=kT]][:rough[=f]][:spread=σ] | "
-                        "cylinder:D[:isotropic|inplane|vertical][:tilt=DEG][:spread=σ] (D: effective "
-                        "diameter in nm; cylinders isotropic by default; tilt: orientation spread of "
-                        "aligned cylinders, degrees)")
+                   help=f"{PARTICLE_GRAMMAR} (D: effective diameter in nm; cylinders isotropic by default; "
+                        "tilt: orientation spread of aligned cylinders, degrees; σ of ln D; kT well depth; "
+                        "f protruding fraction)")
     p.add_argument("--thickness", type=float, default=1000.0, help="layer thickness, nm")
     p.add_argument("--cell", type=float, nargs="+", default=[2000.0], metavar="NM",
                    help="cell period in x (and y), nm")
@@ -60,11 +58,10 @@ def run(args) -> int:
 
     ink = parse_ink(args.ink)
     particles = parse_particles(args.particles)
-    if args.png:
-        writable_output(args.png, ".png", "--png")
     if particles is None:
         raise ValueError(f"--particles {args.particles}: a molecular ink is one homogeneous layer, with no "
                          "particle geometry to generate; give grains, e.g. sphere:100")
+    refuse_grains_without_pigment(ink, particles)
     if len(args.cell) > 2:
         raise ValueError(f"--cell takes one or two lengths, got {len(args.cell)}")
     cell = (args.cell[0], args.cell[-1])
@@ -72,6 +69,8 @@ def run(args) -> int:
         if value is not None and not 0.0 <= value <= top:
             raise ValueError(f"{option} {value:g}: the section must lie inside the layer cell, 0 … {top:g} nm")
     layer = LayerSpec(ink, particles, thickness_nm=args.thickness, cell_nm=cell)
+    if args.png:
+        writable_output(args.png, ".png", "--png", make_folder=True)
     update, close = progress_bar() if args.progress else (None, lambda: None)
     try:
         real = generate(layer, args.seed, progress=update)
@@ -80,7 +79,6 @@ def run(args) -> int:
     vox = voxelize(real, tuple(args.grid))
     print(summary(real, vox))
     if args.png:
-        os.makedirs(os.path.dirname(os.path.abspath(args.png)), exist_ok=True)
         title = f"{ink.label}, {particles.label}, H = {args.thickness:g} nm, seed {args.seed}"
         draw_sections(real, vox, args.png, title, z_nm=args.z, y_nm=args.y)
         print(f"wrote {args.png}")

@@ -10,10 +10,13 @@ what each figure and each CSV column shows.
 
 from __future__ import annotations
 
+import warnings
+
 from ..figures import FIGURES, FigureSettings, make_figure, parse_columns, parse_rows
 from ..table.request import ACCURACY, TIERS
+from ..table.request_checks import ignored_on_molecular
 from .build import add_run_arguments, options_from_args
-from .parsing import DefaultsFormatter, uniform_angles, wavelength_range, writable_output
+from .parsing import PARTICLE_GRAMMAR, DefaultsFormatter, uniform_angles, wavelength_range, writable_output
 
 
 def add_parser(sub) -> None:
@@ -28,7 +31,7 @@ def add_parser(sub) -> None:
                    help="ink specs separated by commas, e.g. R15,Y7.5+B7.5 (default: the figure's rows)")
     p.add_argument("--columns", default=None, metavar="GRAINS",
                    help="particle specs separated by commas, e.g. molecular,sphere:100,cylinder:200:inplane "
-                        "(default: the figure's columns)")
+                        f"(default: the figure's columns); each molecular or {PARTICLE_GRAMMAR}")
     p.add_argument("--report", default=None, metavar="OUT.md",
                    help="also test the paper's §3.3 findings on every row/column pair and write them here")
     g = p.add_argument_group("overrides of the preset (quick drafts; every cell gets them)")
@@ -65,9 +68,12 @@ def run(args) -> int:
     rows = parse_rows(args.rows, args.figure)
     columns = parse_columns(args.columns, args.figure)
     settings = settings_from_args(args)
+    ignored = settings.particle_only()
+    if ignored and all(column.molecular for column in columns):
+        warnings.warn(ignored_on_molecular("every column", ignored))
     opts = options_from_args(args)
-    out = writable_output(args.output, ".png", "-o")
-    report = writable_output(args.report, ".md", "--report") if args.report else None
+    out = writable_output(args.output, ".png", "-o", make_folder=True)
+    report = writable_output(args.report, ".md", "--report", make_folder=True) if args.report else None
     output = make_figure(args.figure, rows, columns, settings, opts, out, report)
     # cells that cannot exist (no table to plan, e.g. an unreachable concentration) are part of a
     # complete figure; a table that failed to build is a failure of this run: exit status 1

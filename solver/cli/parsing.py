@@ -7,12 +7,24 @@ from __future__ import annotations
 import argparse
 import math
 import os
+import sys
 import tempfile
 from pathlib import Path
 
 import numpy as np
 
 from ..table.request import MAX_ANGLES, RequestError
+
+
+#: the particle specs `--particles` takes (build, paper's columns, geometry); a cylinder's
+#: orientation is optional (isotropic by default)
+PARTICLE_GRAMMAR = ("sphere:D[:agglutinated[=kT]][:rough[=f]][:spread=σ] | "
+                    "cylinder:D[:isotropic|inplane|vertical][:tilt=DEG][:spread=σ]")
+
+
+def print_warning(message, category=None, filename=None, lineno=None, file=None, line=None) -> None:
+    """`warnings.showwarning` of the commands: one `warning: …` line on stderr, no source line."""
+    print(f"warning: {message}", file=sys.stderr)
 
 
 class OneLineParser(argparse.ArgumentParser):
@@ -41,11 +53,12 @@ class DefaultsFormatter(argparse.HelpFormatter):
         return text + " (default: %(default)s)"
 
 
-def writable_output(path, suffix: str, option: str) -> Path:
+def writable_output(path, suffix: str, option: str, make_folder: bool = False) -> Path:
     """`path` as a Path if a file ending in `suffix` can be written there, else ValueError naming
     the option and the fix — checked by creating (and removing) a file in the first existing
-    folder on its way, so a read-only or pseudo file system is refused before any work; missing
-    folders are created when the file is written."""
+    folder on its way, so a read-only or pseudo file system is refused before any work.  Missing
+    folders are created now with `make_folder` (for writers that do not make them), else when
+    the file is written."""
     path = Path(path)
     if path.suffix.lower() != suffix:
         raise ValueError(f"{option} '{path}' must end in {suffix}")
@@ -62,6 +75,9 @@ def writable_output(path, suffix: str, option: str) -> Path:
         os.unlink(probe)
         if path.exists() and not os.access(path, os.W_OK):
             raise PermissionError(13, f"{path.name} is read-only")
+        if make_folder:
+            folder = path.absolute().parent
+            folder.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise ValueError(f"{option} '{path}': cannot write in {folder} ({exc.strerror}): "
                          "choose a writable folder") from None

@@ -28,12 +28,18 @@ def _pigment_eps(meta: dict) -> str:
     return "local field" if meta.get("local_field") else "bulk"
 
 
+def thickness_text(thickness_nm) -> str:
+    """A table's thickness as read: '1000' for one layer, '800 + 800' for a stack (top first)."""
+    values = thickness_nm if isinstance(thickness_nm, (list, tuple, np.ndarray)) else [thickness_nm]
+    return " + ".join(f"{float(v):g}" if isinstance(v, (int, float, np.number)) else str(v) for v in values)
+
+
 def summary(table, paper: float = 0.9) -> str:
     meta = table.meta
     wl = table.wavelengths
     lines = [
         f"ink {meta.get('ink')}  particles {meta.get('particles')}  tier {meta.get('tier')}  "
-        f"thickness {meta.get('thickness_nm')} nm  polarisation {meta.get('polarisation', 'te')}  "
+        f"thickness {thickness_text(meta.get('thickness_nm'))} nm  polarisation {meta.get('polarisation', 'te')}  "
         f"pigment ε {_pigment_eps(meta)}  schema v{meta.get('schema_version')}",
         f"wavelengths {wl[0]:g}–{wl[-1]:g} nm ({wl.size})  incidence angles {table.sigma.size}  "
         f"BRDF grid θ×Δφ {table.theta.size}×{table.dphi.size}  diffuse R: {'yes' if table.has_diffuse else 'none'}",
@@ -108,7 +114,7 @@ def run(args) -> int:
         raise ValueError(f"--dphi {args.dphi}: the azimuth difference must lie in [0, 180] degrees")
     for option, path in (("--png", args.png), ("--plot", args.plot)):
         if path:
-            writable_output(path, ".png", option).parent.mkdir(parents=True, exist_ok=True)
+            writable_output(path, ".png", option, make_folder=True)
     table = read_table(args.file)
     print(summary(table, args.paper))
     if args.png:

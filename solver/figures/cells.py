@@ -19,7 +19,7 @@ from tqdm import tqdm
 
 from ..geometry.spec import MOLECULAR_WORDS
 from ..table.builder import BuildOptions, get_or_build
-from ..table.request import TableRequest, default_grids, table_request
+from ..table.request import OPTION, TableRequest, default_grids, table_request
 from ..table.schema import InkTable
 from .paper_grid import Column, Row
 
@@ -45,10 +45,15 @@ class FigureSettings:
         (at `preview`, 40-nm steps alone move a saturated film's colour by several ΔE)."""
         molecular = particles.strip().lower() in MOLECULAR_WORDS
         kw = {k: v for k, v in self.overrides if k in GRID_OPTIONS or not molecular}
-        if molecular:
+        if molecular:           # the preset gives its grids only: the film has no wave settings
             wavelengths, sigma = default_grids(self.accuracy, molecular=False)
-            kw = {"wavelengths_nm": wavelengths, "sigma_rad": sigma, **kw}
+            return table_request(ink, particles, **{"wavelengths_nm": wavelengths, "sigma_rad": sigma, **kw})
         return table_request(ink, particles, accuracy=self.accuracy, **kw)
+
+    def particle_only(self) -> list[str]:
+        """The overrides (as CLI options) that only particle cells use: ignored by a figure whose
+        every column is molecular."""
+        return [OPTION.get(k, k) for k, _ in self.overrides if k not in GRID_OPTIONS]
 
     @property
     def label(self) -> str:
@@ -98,7 +103,11 @@ class CellResult:
 
 
 def failure_reason(exc: BaseException) -> str:
+    """Why a cell failed, in one line: the message of a refusal (bad input, a cell that cannot
+    exist, a file problem), the exception's class too for anything else (a bug)."""
     text = " ".join(str(exc).split())
+    if text and isinstance(exc, (ValueError, OSError)):
+        return text
     return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
 
 

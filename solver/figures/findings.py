@@ -22,7 +22,7 @@ import numpy as np
 from ..geometry.spec import parse_particles
 from ..inks import parse_ink
 from .cell_colour import delta_e, saturation
-from .records import CellRecord
+from .records import CellRecord, run_counts
 
 RESOLVED_SE = 2.0
 SAMPLES = 4000
@@ -220,10 +220,9 @@ VERDICTS = ("agrees", "not resolved", "contradicts", "SE unknown", "not testable
 def report(records: list[CellRecord], title: str, checks: list[Check] | None = None) -> str:
     """The findings report (Markdown)."""
     checks = evaluate(records) if checks is None else checks
-    ok = sum(r.ok for r in records)
     sources = sorted({r.se_source for r in records if r.ok})
     lines = [f"# {title}: the paper's findings (§3.3) tested on the grid", "",
-             f"{len(records)} cells ({ok} built, {len(records) - ok} failed); accuracy "
+             f"{run_counts(records)}; accuracy "
              f"{', '.join(sorted({r.accuracy for r in records}))}; colour: CIELAB (D65) of the ink on paper "
              "r = 0.9 under diffuse light, 0° view; saturation s = C*/L*; ΔE = CIE76.",
              f"A check agrees when its value exceeds {RESOLVED_SE:g} standard errors, contradicts below "

@@ -21,7 +21,7 @@ from .draw import Curve, Panel, compose, draw_grid, draw_spectra
 from .fig6 import crossed_out, figure6
 from .layout import CellGeometry, GridLayout, grid_labels, header_rules
 from .paper_grid import TITLES
-from .records import CellRecord, record_of, write_csv
+from .records import CellRecord, plural, record_of, run_counts, write_csv
 
 log = logging.getLogger("inkbsdf.figures")
 
@@ -163,7 +163,7 @@ def make_figure(figure: str, rows, columns, settings: FigureSettings, opts: Buil
     cached = sum(p.request is not None and e is None for p, e in zip(plans, ests))   # None: in the cache
     unplanned = sum(p.request is None for p in plans)
     where = f"on {opts.scheduler}" if opts.scheduler else f"with {opts.workers} worker(s)"
-    echo(f"{figure}: {len(rows)} × {len(columns)} = {len(plans)} cells, {cached} in the cache, "
+    echo(f"{figure}: {len(rows)} × {len(columns)} = {plural(len(plans), 'cell')}, {cached} in the cache, "
          f"{len(plans) - cached - unplanned} to build (estimated {duration(sum(seconds))} {where})"
          + (f", {unplanned} cannot be planned (drawn crossed out)" if unplanned else ""))
     geometry = CellGeometry() if figure in GRID_FIGURES else None
@@ -182,12 +182,10 @@ def make_figure(figure: str, rows, columns, settings: FigureSettings, opts: Buil
     if report_path is not None:
         report = Path(report_path)
         report.write_text(findings.report(records, TITLES.get(figure, figure)), encoding="utf-8")
-    failed = [r for r in records if not r.ok]
-    built = sum(r.computed for r in records)
     echo(f"wrote {out_png} and {csv_path}" + (f" and {spectra}" if spectra else "")
          + (f" and {report}" if report else "")
-         + f": {len(records) - len(failed)} cells drawn ({built} computed now), {len(failed)} failed, "
-         + f"in {duration(time.perf_counter() - started)}")
-    for r in failed:
-        echo(f"  failed: {r.ink} × {r.grains}: {r.reason}")
+         + f" in {duration(time.perf_counter() - started)}; {run_counts(records)}")
+    for r in records:
+        if not r.ok:
+            echo(f"  failed: {r.ink} × {r.grains}: {r.reason}")
     return FigureOutput(out_png, csv_path, report, records, spectra)

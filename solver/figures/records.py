@@ -62,6 +62,20 @@ def record_of(figure: str, result: CellResult, accuracy: str, colour: CellColour
                       se=colour.se, se_source=colour.source, cache_key=str(result.table.meta.get("cache_key", key)))
 
 
+def plural(count: int, noun: str) -> str:
+    """'1 cell', '4 cells'."""
+    return f"{count} {noun}{'' if count == 1 else 's'}"
+
+
+def run_counts(records: list[CellRecord]) -> str:
+    """What this run did with its cells (the console and the report): '4 cells: 3 drawn (1
+    computed by this run, 2 from the cache), 1 failed'."""
+    drawn = [r for r in records if r.ok]
+    computed = sum(r.computed for r in drawn)
+    return (f"{plural(len(records), 'cell')}: {len(drawn)} drawn ({computed} computed by this run, "
+            f"{len(drawn) - computed} from the cache), {len(records) - len(drawn)} failed")
+
+
 def _num(x, digits: int = 4) -> str:
     return "" if x is None or not math.isfinite(float(x)) else f"{float(x):.{digits}f}"
 

@@ -31,7 +31,7 @@ from ..inks import Ink, parse_ink
 from ..materials import MaterialData, default_materials
 from .fingerprint import code_fingerprint
 # the names and limits requests are checked against, re-exported: callers find them here
-from .request_checks import MAX_ANGLES, OPTION, TIERS, RequestError, validate  # noqa: F401
+from .request_checks import MAX_ANGLES, OPTION, TIERS, RequestError, ignored_on_molecular, validate  # noqa: F401
 from .schema import POLARISATIONS  # noqa: F401
 
 
@@ -304,12 +304,13 @@ def table_request(ink, particles="molecular", *, thickness_nm=None, accuracy: st
             fields["grid"] = (nx, ny, sum(max(1, round(nz * layer.thickness_nm / DEFAULT_THICKNESS_NM))
                                           for layer in layers))
         wave = WaveSettings(**fields)
-    elif set(wave_overrides) - {"tier"}:
-        import warnings     # settings of the wave solver mean nothing for a homogeneous layer
+    else:                   # the preset and settings of the wave solver mean nothing for a homogeneous layer
+        ignored = (["accuracy"] if accuracy != "default" else []) + sorted(set(wave_overrides) - {"tier"})
+        if ignored:
+            import warnings
 
-        warnings.warn(f"{'/'.join(l.ink.label for l in layers)} is molecular (an exact thin film): "
-                      f"{', '.join(OPTION.get(k, k) for k in sorted(set(wave_overrides) - {'tier'}))} "
-                      "ignored", stacklevel=2)
+            warnings.warn(ignored_on_molecular(LAYER_SEPARATOR.join(l.ink.label for l in layers),
+                                               [OPTION.get(k, k) for k in ignored]), stacklevel=2)
     materials = materials or default_materials()
     if local_field is None:
         local_field = LOCAL_FIELD_DEFAULT.get(polarisation, True)   # an unknown one is refused below

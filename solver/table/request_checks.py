@@ -34,11 +34,35 @@ OPTION = {"thickness_nm": "--thickness", "wavelengths_nm": "--wavelengths", "sig
           "local_field": "--local-field",
           "ink": "--ink"}
 MIN_GRID = (8, 8, 4)
+#: layers thinner than this are most likely µm typed as nm (a printed ink layer is ~1000 nm)
+THIN_LAYER_NM = 50.0
 
 
 def _finite_positive(value, what: str) -> None:
     if not (isinstance(value, (int, float, np.floating, np.integer)) and math.isfinite(value) and value > 0):
         raise RequestError(f"{what} must be a positive finite number, got {value!r}")
+
+
+def refuse_grains_without_pigment(ink, particles) -> None:
+    """Grains (`particles`, None: molecular) need pigment to be made of: 'clear' has none."""
+    if particles is not None and not ink.components:
+        raise RequestError(f"--particles {particles.label}: 'clear' has no pigment to make grains "
+                           "of; use --particles molecular")
+
+
+def ignored_on_molecular(what: str, options) -> str:
+    """The warning that options of particle inks (`options`, CLI names) mean nothing where every
+    layer is molecular (an exact thin film); `what` names the ink(s)."""
+    return f"{what} is molecular (an exact thin film): {', '.join(options)} ignored"
+
+
+def thin_layers_warning(thicknesses_nm) -> str | None:
+    """A warning for layers thinner than THIN_LAYER_NM (µm typed as nm?), or None."""
+    thin = [t for t in thicknesses_nm if t < THIN_LAYER_NM]
+    if not thin:
+        return None
+    return (f"{OPTION['thickness_nm']} {', '.join(f'{t:g}' for t in thin)}: a layer thinner than "
+            f"{THIN_LAYER_NM:g} nm, while a printed ink layer is ~1000 nm (1 µm): the option takes nm")
 
 
 def validate(req: TableRequest) -> None:
@@ -47,9 +71,7 @@ def validate(req: TableRequest) -> None:
         raise RequestError("a table needs at least one layer (--ink)")
     for layer in req.layers:
         _finite_positive(layer.thickness_nm, f"{OPTION['thickness_nm']} (layer thickness, nm)")
-        if not layer.ink.components and not layer.molecular:
-            raise RequestError(f"--particles {layer.particles.label}: 'clear' has no pigment to make grains "
-                               "of; use --particles molecular")
+        refuse_grains_without_pigment(layer.ink, layer.particles)
     wl = np.asarray(req.grids.wavelengths_nm)
     if wl.size < 2 or not np.all(np.isfinite(wl)) or np.any(np.diff(wl) <= 0):
         raise RequestError(f"{OPTION['wavelengths_nm']}: need ≥ 2 strictly increasing finite wavelengths (nm)")
