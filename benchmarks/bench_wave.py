@@ -4,7 +4,9 @@ Reference case (issue "The wave solver"): 2000×2000×1000 nm cell, 30 % of 300-
 η = 1.4 + 0.2i in binder 1.558, λ = 500 nm, σ = 25°, tolerance 1e-4.
 
     python -m benchmarks.bench_wave                      # everything, ~5–10 min on 2 cores
-    python -m benchmarks.bench_wave --quick              # the reference rows only
+    python -m benchmarks.bench_wave --quick              # the reference rows only (1, 1b)
+    python -m benchmarks.bench_wave --fft-libraries      # section 5a only (FFT libraries, layouts)
+    PYTHONPATH=<dir with pyfftw, ducc0> python -m benchmarks.bench_wave --quick   # + FFTW rows
     python -m benchmarks.bench_wave --table              # the table solves only (section 6)
     python -m benchmarks.bench_wave --baseline REV       # old solver from git revision REV
     python -m benchmarks.bench_wave --table-baseline REV # section 6's old solver
@@ -338,6 +340,9 @@ def main(argv: list[str] | None = None) -> int:
     load = Path("/proc/loadavg")
     print("wave solver benchmark; load average at start:",
           load.read_text().split()[:3] if load.exists() else "unknown")
+    if "--fft-libraries" in argv:
+        fft_libraries(reference_cell((64, 64, 32)), LAM, SIGMA)
+        return 0
     if "--table" in argv:
         table_solves(table_baseline)
         table_methods()

@@ -5,7 +5,8 @@ to the FFT floor").
 Every part is timed alone, on the solve's own operator and arrays, in CPU seconds (best of
 `REPEATS` after a warm-up, one FFT thread, NumPy's BLAS on one thread as in a solve):
 
-- fft: the lateral FFT pair of one application (the FFT floor per application);
+- fft: the lateral FFT pair of one application (the FFT floor per application), with scipy.fft
+  and, where pyFFTW is installed, FFTW (one row each);
 - z: the z-recursions of one application (zkernels.apply_z);
 - contrast: the product contrast · w of one application;
 - application: one whole application of G·V (scatter_zmajor), the three above and the glue;
@@ -28,6 +29,7 @@ import time
 import numpy as np
 
 from solver.wave import Incidence, bloch_vector, prepare, solve_prepared
+from solver.wave.fftback import aligned_empty, fftw_available
 from solver.wave.operator import Workspace, scatter_zmajor
 from solver.wave.vecops import Basis, one_blas_thread
 from solver.wave.zkernels import apply_z
@@ -50,17 +52,16 @@ def _best(fn, setup=None, repeats: int = REPEATS) -> float:
     return best
 
 
-def decompose(cell, wavelength_nm: float, sigma_rad: float, tol: float = 1e-4) -> dict:
-    """The parts of one reference solve (module doc), CPU seconds."""
+def decompose(cell, wavelength_nm: float, sigma_rad: float, fft: str, tol: float = 1e-4) -> dict:
+    """The parts of one reference solve (module doc) with the FFT library `fft`, CPU seconds."""
     kx0, ky0 = bloch_vector(cell, Incidence(wavelength_nm, sigma_rad))
-    op = prepare(cell, wavelength_nm, kx0, ky0, workers=1)
+    op = prepare(cell, wavelength_nm, kx0, ky0, workers=1, fft=fft)
     res = solve_prepared(op, tol=tol)
     solve_s = _best(lambda: solve_prepared(op, tol=tol), repeats=5)
     rng = np.random.default_rng(0)
     shape = op.zmajor_shape
-    data = (rng.standard_normal(shape) + 1j * rng.standard_normal(shape)).astype(op.dtype)
-    work = np.empty_like(data)
-    out = np.empty_like(data)
+    data, work, out = (aligned_empty(shape, op.dtype) for _ in range(3))   # as the hot path's
+    data[...] = rng.standard_normal(shape) + 1j * rng.standard_normal(shape)
     ws = Workspace(op)
     nb, nz, nx, ny = shape
     refill = lambda: np.copyto(work, data)                       # noqa: E731
@@ -72,7 +73,7 @@ def decompose(cell, wavelength_nm: float, sigma_rad: float, tol: float = 1e-4) -
         gs = _gram_schmidt(data.ravel(), res.applications)
     ws.release()
     apps = res.applications
-    return dict(apps=apps, fft=fft, z=z, contrast=contrast, application=application,
+    return dict(apps=apps, library=op.fft.name, fft=fft, z=z, contrast=contrast, application=application,
                 gram_schmidt=gs, solve=solve_s,
                 rest=solve_s - apps * application - gs,
                 operator_ratio=application / fft,
@@ -102,14 +103,16 @@ def floor_decomposition(cells: dict, wavelength_nm: float, sigma_rad: float) -> 
           "best of repeats; benchmarks/wave_floor.py) ---")
     cols = ("apps", "fft", "z", "contrast", "application", "gram_schmidt", "rest", "solve",
             "operator_ratio", "gmres_bound", "ratio")
-    print(f"{'shape':>12} " + " ".join(f"{c:>14}" for c in cols))
+    print(f"{'shape, FFT':>18} " + " ".join(f"{c:>14}" for c in cols))
     rows = []
-    for name, cell in cells.items():
-        r = decompose(cell, wavelength_nm, sigma_rad)
+    for (name, cell), fft in ((c, f) for c in cells.items()
+                              for f in ("scipy",) + (("fftw",) if fftw_available() else ())):
+        r = decompose(cell, wavelength_nm, sigma_rad, fft)
+        name = f"{name} {r['library']}"
         rows.append(dict(r, shape=name))
         cells_txt = [f"{r['apps']:>14d}"] + [
             f"{1e3 * r[c]:>14.3f}" for c in cols[1:8]] + [f"{r[c]:>14.2f}" for c in cols[8:]]
-        print(f"{name:>12} " + " ".join(cells_txt), flush=True)
+        print(f"{name:>18} " + " ".join(cells_txt), flush=True)
     print("fft, z, contrast, application: per application; gram_schmidt, rest, solve: per "
           "solve. operator_ratio = application / fft: what every iteration pays before any "
           "vector operation; gmres_bound = (apps·application + gram_schmidt) / (apps·fft): "

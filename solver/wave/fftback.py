@@ -3,7 +3,7 @@ arrays (nb, nz, nx, ny), from scipy.fft (default) or FFTW (pyFFTW, optional).
 
 scipy.fft (pocketfft) is always available, keeps complex64 in single precision and transforms in
 place with overwrite_x; its inverse transforms divide by n.  FFTW (`fft="fftw"`, needs
-`pip install pyfftw`, GPL) transforms the reference grid's arrays ≈ 2.8× faster (planned once
+`pip install pyfftw`, GPL) transforms the reference grid's arrays ≈ 2.4× faster (planned once
 per array layout and thread) and does not normalise: the operator folds 1/(nx·ny)
 into its z-constants (zkernels.z_kernels, `normalised`).  Arrays that the hot path transforms are
 allocated 64-byte aligned (`aligned_empty`) so that FFTW's SIMD plans apply; others get an
