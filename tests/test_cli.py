@@ -222,3 +222,28 @@ def test_cell_failures_show_the_message_of_a_refusal():
     assert failure_reason(ValueError("cylinder:300:vertical cannot\n hold R50")) == \
         "cylinder:300:vertical cannot hold R50"
     assert failure_reason(KeyError("tier")) == "KeyError: 'tier'"           # a bug keeps its class
+
+
+def test_show_finds_a_cached_table_by_its_request_or_key_and_computes_nothing(tmp_path, capsys):
+    cache, out = tmp_path / "cache", tmp_path / "y.npz"
+    grids = ["--wavelengths", "400:700:100", "--angles", "4"]
+    assert main(["build", "--ink", "Y15", *grids, "--cache", str(cache), "-o", str(out)]) == 0
+    capsys.readouterr()
+    status, by_file, _ = run_main(main, ["show", out], capsys)
+    assert status == 0
+    status, by_request, _ = run_main(main, ["show", "--ink", "Y15", *grids, "--cache", cache], capsys)
+    key = read_table(out).meta["cache_key"]
+    assert status == 0 and by_request.splitlines()[0] == f"cached table {cache / 'tables' / key}.npz"
+    assert by_request.splitlines()[1:] == by_file.splitlines()          # the same table, summarised alike
+    status, by_key, _ = run_main(main, ["show", key, "--cache", cache], capsys)
+    assert status == 0 and by_key == by_request
+    before = sorted(p.name for p in (cache / "tables").iterdir())
+    # another request (a thickness nobody built): one line naming the option and the fix, nothing built
+    status, _, err = run_main(main, ["show", "--ink", "Y15", "--thickness", "900", *grids, "--cache", cache], capsys)
+    assert status == 2 and "no cached table" in err and "ink-tables build" in err and len(err.splitlines()) == 1
+    status, _, err = run_main(main, ["show", "0123456789abcdef01234567", "--cache", cache], capsys)
+    assert status == 2 and "no cached table with that key" in err
+    assert sorted(p.name for p in (cache / "tables").iterdir()) == before
+    for argv in (["show"], ["show", out, "--ink", "Y15"]):
+        status, _, err = run_main(main, argv, capsys)
+        assert status == 2 and "--ink with the request options" in err

@@ -21,9 +21,9 @@ log = logging.getLogger("ink-tables")
 _WAVE = WaveSettings()
 
 
-def add_request_arguments(p: argparse.ArgumentParser) -> None:
-    """The options that make a table request (shared by `build` and the figure commands)."""
-    p.add_argument("--ink", required=True,
+def add_request_arguments(p: argparse.ArgumentParser, ink_required: bool = True) -> None:
+    """The options that make a table request (shared by `build`, `show` and the figure commands)."""
+    p.add_argument("--ink", required=ink_required,
                    help="ink spec in volume percent: R15, Y7.5+B7.5, G30, clear; 'Y15/B15' prints Y15 over B15")
     p.add_argument("--particles", default="molecular",
                    help=f"molecular | {PARTICLE_GRAMMAR} (D = (effective) diameter in nm; cylinders isotropic by "
@@ -73,13 +73,21 @@ def add_request_arguments(p: argparse.ArgumentParser) -> None:
     g.add_argument("--seed", type=int, default=None, help=f"random seed of the realizations (default {_WAVE.seed})")
 
 
+def add_cache_argument(p) -> None:
+    p.add_argument("--cache", default=None, help="cache directory (default $INKBSDF_CACHE or ~/.cache/inkbsdf)")
+
+
+def cache_from_args(args) -> TableCache:
+    return TableCache(Path(args.cache)) if args.cache else TableCache.default()
+
+
 def add_run_arguments(p: argparse.ArgumentParser) -> None:
     r = p.add_argument_group("running")
     r.add_argument("--workers", type=int, default=None,
                    help=f"local worker processes (default one per core, here {default_workers()}; 1 = in this process)")
     r.add_argument("--scheduler", default=None, metavar="ADDRESS",
                    help="Dask scheduler address: run the work units there instead of a local pool")
-    r.add_argument("--cache", default=None, help="cache directory (default $INKBSDF_CACHE or ~/.cache/inkbsdf)")
+    add_cache_argument(r)
     r.add_argument("--no-progress", action="store_true", help="no progress bars")
     r.add_argument("--force", action="store_true",
                    help="build even what the up-front estimate says cannot fit this machine's memory or disk")
@@ -120,8 +128,7 @@ def request_from_args(args) -> TableRequest:
 
 def options_from_args(args) -> BuildOptions:
     kw = {} if args.workers is None else {"workers": args.workers}
-    cache = TableCache(Path(args.cache)) if args.cache else TableCache.default()
-    return BuildOptions(scheduler=args.scheduler, progress=not args.no_progress, cache=cache,
+    return BuildOptions(scheduler=args.scheduler, progress=not args.no_progress, cache=cache_from_args(args),
                         force=args.force, **kw)
 
 

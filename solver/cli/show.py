@@ -10,13 +10,21 @@ one Δφ with --dphi).
 
 from __future__ import annotations
 
+import re
+from pathlib import Path
+
 import numpy as np
 
 from ..colour import lab_hue_chroma, reflectance_to_srgb8, reflectance_to_xyz, xyz_to_lab
 from ..figures.fig6 import plot_figure6
 from ..table import read_table
 from ..table.evaluate import column_at, directional_albedo
+from .build import add_cache_argument, add_request_arguments, cache_from_args, request_from_args
 from .parsing import DefaultsFormatter, writable_output
+
+
+#: what a cache key looks like (request.TableRequest.key: hex digits)
+CACHE_KEY = re.compile(r"[0-9a-f]{16,64}")
 
 
 def _column_at_deg(table, name: str, degrees: float) -> np.ndarray:
@@ -97,14 +105,34 @@ def plot_spectra(table, path: str) -> None:
 
 def add_parser(sub) -> None:
     p = sub.add_parser("show", help="summarise a table; draw the paper's Fig. 6",
-                       formatter_class=DefaultsFormatter)
-    p.add_argument("file", help="table file (.npz)")
+                       formatter_class=DefaultsFormatter,
+                       description="Summarise a table file, a cached table by its key, or the cached table "
+                                   "that the request options describe (the same options as `build`, e.g. "
+                                   "--ink R15 --particles sphere:100 --accuracy preview, a particle cell of a "
+                                   "preview figure); nothing is computed.")
+    p.add_argument("file", nargs="?", default=None,
+                   help="table file (.npz), or a cache key (a figure CSV's cache_key column); or give --ink "
+                        "and the request options instead")
     p.add_argument("--png", help="write the Fig. 6 picture (strip + BRDF square, with axes and a caption) here")
     p.add_argument("--plot", help="write spectra with error bars here (PNG)")
     p.add_argument("--paper", type=float, default=0.9, help="paper albedo r")
     p.add_argument("--dphi", type=float, default=None,
                    help="azimuth difference (deg) for the BRDF square; default: average over Δφ")
+    add_request_arguments(p, ink_required=False)
+    add_cache_argument(p)
     p.set_defaults(func=run)
+
+
+def cached_table(args):
+    """(table, path) of the cached table the request options describe; ValueError naming the
+    build command when it is not there (nothing is computed)."""
+    request = request_from_args(args)
+    cache = cache_from_args(args)
+    table = cache.load(request)
+    if table is None:
+        raise ValueError(f"--ink {args.ink}: no cached table for {request.describe()} in {cache.root} (key "
+                         f"{request.key()}): build it with `ink-tables build` and the same options, -o FILE")
+    return table, cache.table_path(request)
 
 
 def run(args) -> int:
@@ -115,7 +143,20 @@ def run(args) -> int:
     for option, path in (("--png", args.png), ("--plot", args.plot)):
         if path:
             writable_output(path, ".png", option, make_folder=True)
-    table = read_table(args.file)
+    if (args.file is None) == (args.ink is None):
+        raise ValueError("give a table file or cache key, or --ink with the request options (not both)")
+    if args.file is None:
+        table, path = cached_table(args)
+        print(f"cached table {path}")
+    elif CACHE_KEY.fullmatch(args.file) and not Path(args.file).exists():
+        path = cache_from_args(args).root / "tables" / f"{args.file}.npz"
+        if not path.exists():
+            raise ValueError(f"{args.file}: no table file of that name, and no cached table with that key in "
+                             f"{path.parent}")
+        print(f"cached table {path}")
+        table = read_table(path)
+    else:
+        table = read_table(args.file)
     print(summary(table, args.paper))
     if args.png:
         plot_figure6(table, args.png, args.paper, dphi_deg=args.dphi)
