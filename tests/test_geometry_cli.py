@@ -45,3 +45,38 @@ def test_molecular_has_no_geometry(capsys, tmp_path):
     assert main(["geometry", "--ink", "G30", "--particles", "molecular", "--png", str(tmp_path / "g.png")]) == 2
     err = capsys.readouterr().err
     assert "homogeneous" in err and "--particles" in err and not (tmp_path / "g.png").exists()
+
+
+def test_realization_draws_the_cell_a_table_solves(capsys):
+    """--realization K shows the very cell realization K of the tables was solved on: the same
+    grains (count, fractions, clusters, pair correlation) and voxel fractions as the tables'
+    own geometry unit, for the default and another --table-seed; other seeds differ."""
+    from solver.geometry import generate
+    from solver.geometry.report import summary
+    from solver.table import wave_tier
+    from solver.table.request import table_request
+
+    def lines(text):            # the grains and voxels, not the timing of the placement
+        return [l for l in text.splitlines() if not l.startswith(("layer ", "placement", "realization "))]
+
+    for table_seed, k in ((None, 0), (None, 2), (7, 1)):
+        req = table_request("Y15", "sphere:300", **({} if table_seed is None else {"seed": table_seed}))
+        vox = wave_tier.geometry_unit(wave_tier.GeometryUnit(req, k))
+        real = generate(wave_tier.layer_spec(req), wave_tier.realization_seed(req, k))
+        argv = ["geometry", "--ink", "Y15", "--particles", "sphere:300", "--realization", str(k),
+                "--grid", *map(str, req.wave.grid)] + ([] if table_seed is None else ["--table-seed", str(table_seed)])
+        assert main(argv) == 0
+        out = capsys.readouterr().out
+        assert lines(out) == lines(summary(real, vox)), (table_seed, k)
+        assert f"realization {k} of the tables with --seed {req.wave.seed}" in out
+    assert main(["geometry", "--ink", "Y15", "--particles", "sphere:300", "--seed", "0",
+                 "--grid", *map(str, req.wave.grid)]) == 0
+    assert lines(capsys.readouterr().out) != lines(summary(real, vox))
+    for argv, words in ((["--table-seed", "3"], "--realization"), (["--realization", "-1"], "count from 0"),
+                        (["--realization", "1", "--seed", "2"], "not allowed with")):
+        try:
+            rc = main(["geometry", "--ink", "Y15", "--particles", "sphere:300"] + argv)
+        except SystemExit as exc:
+            rc = exc.code
+        err = capsys.readouterr().err
+        assert rc == 2 and words in err, (argv, err)

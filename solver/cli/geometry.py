@@ -10,6 +10,7 @@ exactly through the particles and through the voxel grid the wave solver uses.
 from __future__ import annotations
 
 from ..inks import parse_ink
+from ..table.request import WaveSettings
 from ..table.request_checks import refuse_grains_without_pigment
 from .parsing import PARTICLE_GRAMMAR, DefaultsFormatter, writable_output
 
@@ -25,7 +26,14 @@ def add_parser(sub) -> None:
     p.add_argument("--thickness", type=float, default=1000.0, help="layer thickness, nm")
     p.add_argument("--cell", type=float, nargs="+", default=[2000.0], metavar="NM",
                    help="cell period in x (and y), nm")
-    p.add_argument("--seed", type=int, default=0, help="random seed of the realization")
+    seeds = p.add_mutually_exclusive_group()
+    seeds.add_argument("--seed", type=int, default=None,
+                       help="random seed of the generator (default 0)")
+    seeds.add_argument("--realization", type=int, default=None, metavar="K",
+                       help="draw realization K (from 0) of the tables `build` makes for this ink, with the "
+                            "seed those tables derive from --table-seed (one-layer inks)")
+    p.add_argument("--table-seed", type=int, default=None,
+                   help=f"with --realization: the tables' --seed (default {WaveSettings().seed})")
     p.add_argument("--grid", type=int, nargs=3, default=[128, 128, 64], metavar=("NX", "NY", "NZ"),
                    help="voxel grid")
     p.add_argument("--png", help="write the section pictures here")
@@ -51,6 +59,28 @@ def progress_bar():
     return update, bar.close
 
 
+def generator_seed(args, ink, particles, cell) -> tuple[int, str]:
+    """(seed of the generator, how to say it): --seed as given, or the seed the tables of this
+    ink give realization --realization (`wave_tier.realization_seed`, the one rule)."""
+    if args.realization is None:
+        if args.table_seed is not None:
+            raise ValueError("--table-seed goes with --realization K (the tables' realization to draw)")
+        seed = 0 if args.seed is None else args.seed
+        return seed, f"seed {seed}"
+    if args.realization < 0:
+        raise ValueError(f"--realization {args.realization}: realizations count from 0")
+    from ..table.request import table_request
+    from ..table.wave_tier import realization_seed
+
+    kw = {} if args.table_seed is None else {"seed": args.table_seed}
+    request = table_request(ink, particles, thickness_nm=args.thickness, cell_nm=cell[0], **kw)
+    if cell[0] != cell[1]:
+        raise ValueError("--realization: tables use square cells; give one --cell length")
+    seed = realization_seed(request, args.realization)
+    return seed, (f"realization {args.realization} of the tables with --seed {request.wave.seed} "
+                  f"(generator seed {seed})")
+
+
 def run(args) -> int:
     from ..geometry import LayerSpec, generate, parse_particles, voxelize
     from ..geometry.render import draw_sections
@@ -68,18 +98,21 @@ def run(args) -> int:
     for option, value, top in (("--z", args.z, args.thickness), ("--y", args.y, cell[1])):
         if value is not None and not 0.0 <= value <= top:
             raise ValueError(f"{option} {value:g}: the section must lie inside the layer cell, 0 … {top:g} nm")
+    seed, seed_text = generator_seed(args, ink, particles, cell)
     layer = LayerSpec(ink, particles, thickness_nm=args.thickness, cell_nm=cell)
     if args.png:
         writable_output(args.png, ".png", "--png", make_folder=True)
     update, close = progress_bar() if args.progress else (None, lambda: None)
     try:
-        real = generate(layer, args.seed, progress=update)
+        real = generate(layer, seed, progress=update)
     finally:
         close()
     vox = voxelize(real, tuple(args.grid))
     print(summary(real, vox))
+    if args.realization is not None:
+        print(seed_text)
     if args.png:
-        title = f"{ink.label}, {particles.label}, H = {args.thickness:g} nm, seed {args.seed}"
+        title = f"{ink.label}, {particles.label}, H = {args.thickness:g} nm, {seed_text}"
         draw_sections(real, vox, args.png, title, z_nm=args.z, y_nm=args.y)
         print(f"wrote {args.png}")
     return 0
