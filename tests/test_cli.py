@@ -131,13 +131,14 @@ def test_paper_makes_its_output_folders_and_counts_what_this_run_did(tmp_path, c
 @pytest.mark.parametrize("option", ["-o", "--report"])
 def test_paper_refuses_an_output_folder_it_cannot_make_before_any_work(option, tmp_path, capsys):
     (tmp_path / "plain").write_text("x")
-    outputs = {"-o": tmp_path / "f.png", "--report": tmp_path / "f.md"}
+    outputs = {"-o": tmp_path / "new" / "f.png", "--report": tmp_path / "other" / "f.md"}
     outputs[option] = tmp_path / "plain" / "sub" / outputs[option].name
     status, _, err = run_main(main, ["paper", "fig7", "--rows", "R15", "--columns", "molecular", *TINY,
                                      "--cache", tmp_path / "cache", "-o", outputs["-o"],
                                      "--report", outputs["--report"]], capsys)
     assert status == 2 and err.count("\n") == 1 and f"{option} '" in err and "cannot write" in err, err
     assert not (tmp_path / "cache" / "tables").exists() or not any((tmp_path / "cache" / "tables").iterdir())
+    assert not (tmp_path / "new").exists() and not (tmp_path / "other").exists()   # no folder made either
 
 
 def test_particle_options_on_a_molecular_ink_are_one_warning_line(tmp_path, capsys):
@@ -242,8 +243,43 @@ def test_show_finds_a_cached_table_by_its_request_or_key_and_computes_nothing(tm
     status, _, err = run_main(main, ["show", "--ink", "Y15", "--thickness", "900", *grids, "--cache", cache], capsys)
     assert status == 2 and "no cached table" in err and "ink-tables build" in err and len(err.splitlines()) == 1
     status, _, err = run_main(main, ["show", "0123456789abcdef01234567", "--cache", cache], capsys)
-    assert status == 2 and "no cached table with that key" in err
+    assert status == 2 and "no cached tables whose key starts so" in err
     assert sorted(p.name for p in (cache / "tables").iterdir()) == before
-    for argv in (["show"], ["show", out, "--ink", "Y15"]):
+    for argv, words in ((["show"], "--ink with the build's options"), (["show", out, "--ink", "Y15"], "not with it")):
         status, _, err = run_main(main, argv, capsys)
-        assert status == 2 and "--ink with the request options" in err
+        assert status == 2 and words in err
+
+
+def test_show_refuses_request_options_beside_a_file_or_without_ink_and_finds_a_key_by_its_start(tmp_path, capsys):
+    cache, out = tmp_path / "cache", tmp_path / "g.npz"
+    assert main(["build", "--ink", "G30", "--wavelengths", "400:700:100", "--angles", "3", "--cache", str(cache),
+                 "-o", str(out)]) == 0
+    capsys.readouterr()
+    key = read_table(out).meta["cache_key"]
+    for argv, words in ((["show", out, "--particles", "sphere:100"], "--particles describes a cached table"),
+                        (["show", out, "--ink", "G30"], "--ink describes a cached table"),
+                        (["show", "--particles", "sphere:100"], "--particles needs --ink"),
+                        (["show", key[:4] + "zz", "--cache", cache], "table file not found")):
+        status, _, err = run_main(main, argv, capsys)
+        assert status == 2 and words in err and err.count("\n") == 1, (argv, err)
+    for name in (key[:8], key + ".npz"):
+        status, text, _ = run_main(main, ["show", name, "--cache", cache], capsys)
+        assert status == 0 and text.startswith(f"cached table {cache / 'tables' / key}.npz"), name
+    (cache / "tables" / f"{key[:8]}ffff.npz").write_bytes(b"")        # a second key starting alike
+    status, _, err = run_main(main, ["show", key[:8], "--cache", cache], capsys)
+    assert status == 2 and "2 cached tables" in err and "give more of the key" in err
+
+
+def test_max_realizations_alone_is_one_warning_and_the_same_table(tmp_path, capsys):
+    from solver.table.request import table_request
+
+    base = dict(accuracy="preview", grid=(16, 16, 8), realizations=2)
+    with pytest.warns(UserWarning, match="--max-realizations is the cap of --target-se: ignored without it"):
+        capped = table_request("R15", "sphere:100", max_realizations=10, **base)
+    assert capped.key() == table_request("R15", "sphere:100", **base).key()
+    with_target = table_request("R15", "sphere:100", max_realizations=10, target_se=0.01, **base)
+    assert with_target.wave.max_realizations == 10 and "--max-realizations 10" in with_target.describe()
+    other = table_request("R15", "sphere:100", seed=3, tolerance=0.02, **base)
+    # what tells two requests apart is in their one-line description (the build log, show's refusal)
+    assert "--seed 3" in other.describe() and "--tolerance 0.02" in other.describe()
+    assert "--seed" not in capped.describe() and "16×16×8" in capped.describe()

@@ -31,6 +31,7 @@ def test_geometry_bad_input_gives_one_error_line(capsys):
         (["--ink", "B15", "--particles", "sphere:-20"], ["negative particle size"]),
         (["--ink", "B15", "--particles", "sphere:600"], ["larger than the layer"]),
         (["--ink", "clear", "--particles", "sphere:100"], ["'clear' has no pigment to make grains of"]),
+        (["--ink", "Y15/B15", "--particles", "sphere:100"], ["draws one layer", "--ink Y15"]),
     ]:
         rc = main(["geometry"] + args + SMALL)
         err = capsys.readouterr().err.strip()
@@ -73,6 +74,7 @@ def test_realization_draws_the_cell_a_table_solves(capsys):
                  "--grid", *map(str, req.wave.grid)]) == 0
     assert lines(capsys.readouterr().out) != lines(summary(real, vox))
     for argv, words in ((["--table-seed", "3"], "--realization"), (["--realization", "-1"], "count from 0"),
+                        (["--realization", "0", "--table-seed", "-3"], "--table-seed -3"),
                         (["--realization", "1", "--seed", "2"], "not allowed with")):
         try:
             rc = main(["geometry", "--ink", "Y15", "--particles", "sphere:300"] + argv)

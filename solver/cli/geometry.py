@@ -69,6 +69,8 @@ def generator_seed(args, ink, particles, cell) -> tuple[int, str]:
         return seed, f"seed {seed}"
     if args.realization < 0:
         raise ValueError(f"--realization {args.realization}: realizations count from 0")
+    if args.table_seed is not None and args.table_seed < 0:
+        raise ValueError(f"--table-seed {args.table_seed}: the tables' seed is an integer ≥ 0")
     from ..table.request import table_request
     from ..table.wave_tier import realization_seed
 
@@ -86,6 +88,9 @@ def run(args) -> int:
     from ..geometry.render import draw_sections
     from ..geometry.report import summary
 
+    if "/" in args.ink:
+        raise ValueError(f"--ink {args.ink}: geometry draws one layer; give one ink of the stack, e.g. "
+                         f"--ink {args.ink.split('/')[0]}")
     ink = parse_ink(args.ink)
     particles = parse_particles(args.particles)
     if particles is None:

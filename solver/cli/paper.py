@@ -72,6 +72,9 @@ def run(args) -> int:
     if ignored and all(column.molecular for column in columns):
         warnings.warn(ignored_on_molecular("every column", ignored))
     opts = options_from_args(args)
+    writable_output(args.output, ".png", "-o")      # every path checked before any folder is made
+    if args.report:
+        writable_output(args.report, ".md", "--report")
     out = writable_output(args.output, ".png", "-o", make_folder=True)
     report = writable_output(args.report, ".md", "--report", make_folder=True) if args.report else None
     output = make_figure(args.figure, rows, columns, settings, opts, out, report)

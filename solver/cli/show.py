@@ -19,12 +19,13 @@ from ..colour import lab_hue_chroma, reflectance_to_srgb8, reflectance_to_xyz, x
 from ..figures.fig6 import plot_figure6
 from ..table import read_table
 from ..table.evaluate import column_at, directional_albedo
-from .build import add_cache_argument, add_request_arguments, cache_from_args, request_from_args
+from .build import (add_cache_argument, add_request_arguments, cache_from_args, given_request_options,
+                    request_from_args)
 from .parsing import DefaultsFormatter, writable_output
 
 
-#: what a cache key looks like (request.TableRequest.key: hex digits)
-CACHE_KEY = re.compile(r"[0-9a-f]{16,64}")
+#: what a cache key, or the start of one, looks like (request.TableRequest.key: hex digits)
+CACHE_KEY = re.compile(r"[0-9a-f]{6,64}")
 
 
 def _column_at_deg(table, name: str, degrees: float) -> np.ndarray:
@@ -135,6 +136,16 @@ def cached_table(args):
     return table, cache.table_path(request)
 
 
+def cached_by_key(cache, key: str) -> Path:
+    """The cached table file whose key is `key` or starts with it (unique); ValueError otherwise."""
+    found = sorted((cache.root / "tables").glob(f"{key}*.npz"))
+    if len(found) != 1:
+        raise ValueError(f"{key}: no table file of that name, and {len(found) or 'no'} cached table"
+                         f"{'s' if len(found) != 1 else ''} whose key starts so in {cache.root / 'tables'}"
+                         + ("; give more of the key" if found else ""))
+    return found[0]
+
+
 def run(args) -> int:
     if not (np.isfinite(args.paper) and 0.0 <= args.paper <= 1.0):
         raise ValueError(f"--paper {args.paper}: the paper albedo must lie in [0, 1]")
@@ -143,16 +154,18 @@ def run(args) -> int:
     for option, path in (("--png", args.png), ("--plot", args.plot)):
         if path:
             writable_output(path, ".png", option, make_folder=True)
-    if (args.file is None) == (args.ink is None):
-        raise ValueError("give a table file or cache key, or --ink with the request options (not both)")
+    given = given_request_options(args)
+    if args.file is not None and (args.ink is not None or given):
+        raise ValueError(f"{(['--ink'] if args.ink else given)[0]} describes a cached table (with --ink and the "
+                         f"build's options): give it instead of the table file {args.file}, not with it")
+    if args.file is None and args.ink is None:
+        raise ValueError(f"{given[0]} needs --ink (the request of a cached table)" if given else
+                         "give a table file, a cache key, or --ink with the build's options")
     if args.file is None:
         table, path = cached_table(args)
         print(f"cached table {path}")
-    elif CACHE_KEY.fullmatch(args.file) and not Path(args.file).exists():
-        path = cache_from_args(args).root / "tables" / f"{args.file}.npz"
-        if not path.exists():
-            raise ValueError(f"{args.file}: no table file of that name, and no cached table with that key in "
-                             f"{path.parent}")
+    elif not Path(args.file).exists() and CACHE_KEY.fullmatch(args.file.removesuffix(".npz")):
+        path = cached_by_key(cache_from_args(args), args.file.removesuffix(".npz"))
         print(f"cached table {path}")
         table = read_table(path)
     else:

@@ -70,6 +70,8 @@ class WaveSettings:
     max_realizations: int = 64                 # … but never more than this
 
 
+_DEFAULT_WAVE = WaveSettings()
+
 #: accuracy presets of particle inks (wave settings and wavelength step); docs/tables.md has
 #: each preset's measured colour error against `fine` and its cost
 ACCURACY = {
@@ -201,14 +203,22 @@ class TableRequest:
         return hashlib.sha256(text.encode()).hexdigest()[:24]
 
     def describe(self) -> str:
+        """One line that tells requests apart: the ink, the grids, and every wave setting (the
+        ones left at WaveSettings' defaults named only when they are part of every line)."""
+        wl = self.grids.wavelengths_nm
         what = (f"{self.ink_label} {self.particles_label} H={'/'.join(f'{l.thickness_nm:g}' for l in self.layers)} nm"
-                f", {self.polarisation}, {'local-field' if self.local_field else 'bulk'} pigment ε")
+                f", {self.polarisation}, {'local-field' if self.local_field else 'bulk'} pigment ε, "
+                f"{len(wl)} λ {wl[0]:g}–{wl[-1]:g} nm × {len(self.grids.sigma_rad)} σ")
         if self.molecular:
             return what
         w = self.wave
-        return (f"{what}, {len(self.grids.wavelengths_nm)} λ × {len(self.grids.sigma_rad)} σ, "
-                f"{w.realizations} realizations × {w.azimuths} azimuths, grid "
-                f"{'×'.join(map(str, w.grid))} over {w.cell_nm:g} nm")
+        extra = [f"{OPTION.get(k, k)} {getattr(w, k):g}" if isinstance(getattr(w, k), float)
+                 else f"{OPTION.get(k, k)} {getattr(w, k)}"
+                 for k in ("seed", "tier", "tolerance", "solver_tol", "target_se", "max_realizations")
+                 if getattr(w, k) != getattr(_DEFAULT_WAVE, k)
+                 and (k != "max_realizations" or w.target_se is not None)]
+        return (f"{what}, {w.realizations} realizations × {w.azimuths} azimuths, grid "
+                f"{'×'.join(map(str, w.grid))} over {w.cell_nm:g} nm" + "".join(f", {e}" for e in extra))
 
     def with_wave(self, **changes) -> "TableRequest":
         """The same request with some wave settings changed (validated)."""
@@ -303,6 +313,12 @@ def table_request(ink, particles="molecular", *, thickness_nm=None, accuracy: st
             nx, ny, nz = fields["grid"]
             fields["grid"] = (nx, ny, sum(max(1, round(nz * layer.thickness_nm / DEFAULT_THICKNESS_NM))
                                           for layer in layers))
+        if fields["target_se"] is None and "max_realizations" in wave_overrides:
+            import warnings      # the cap of --target-se changes nothing without it: one table
+
+            warnings.warn(f"{OPTION.get('max_realizations')} is the cap of {OPTION.get('target_se')}: "
+                          "ignored without it", stacklevel=2)
+            fields["max_realizations"] = preset.max_realizations
         wave = WaveSettings(**fields)
     else:                   # the preset and settings of the wave solver mean nothing for a homogeneous layer
         ignored = (["accuracy"] if accuracy != "default" else []) + sorted(set(wave_overrides) - {"tier"})
