@@ -65,7 +65,7 @@ def check_paper(texture) -> None:
     else:
         got = f"got a spectrum reaching {high:.3g}" if high > 1.0 else f"got a spectrum down to {low:.3g}"
     raise InkParameterError(f"ink BSDF: parameter 'paper' is an albedo and must lie in [0, 1], {got}: "
-                            'correct it (e.g. <float name="paper" value="0.9"/>)')
+                            'correct it (e.g. <float name="paper" value="0.9"/>, or the <default> that sets it)')
 
 
 def spectrum_values(texture, n_groups: int = 118) -> np.ndarray:

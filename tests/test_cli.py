@@ -179,11 +179,12 @@ def test_help_says_verbose_after_the_subcommand(capsys):
     assert "-v, --verbose also log debug details" in flat and "after the subcommand" in flat
 
 
-def test_version(capsys):
+@pytest.mark.parametrize("argv", [["--version"], ["build", "--version"], ["show", "--version"]])
+def test_version(argv, capsys):
     from importlib.metadata import version
 
     with pytest.raises(SystemExit) as exc:
-        main(["--version"])
+        main(argv)
     assert exc.value.code == 0 and capsys.readouterr().out.strip() == f"ink-tables {version('inkbsdf')}"
 
 

@@ -43,7 +43,8 @@ def make_parser() -> argparse.ArgumentParser:
     parser = OneLineParser(
         prog="ink-tables", description="Tables of printed-ink reflectance for the inkbsdf Mitsuba plugin.")
     add_verbose(parser)
-    parser.add_argument("--version", action="version", version=f"%(prog)s {package_version()}")
+    version = f"ink-tables {package_version()}"
+    parser.add_argument("--version", action="version", version=version)
     sub = parser.add_subparsers(dest="command", required=True)
     for name in SUBCOMMANDS:
         try:
@@ -55,6 +56,7 @@ def make_parser() -> argparse.ArgumentParser:
         module.add_parser(sub)
     for command in sub.choices.values():
         add_verbose(command, default=argparse.SUPPRESS)   # after the subcommand too, keeping one before it
+        command.add_argument("--version", action="version", version=version)
     return parser
 
 
