@@ -21,24 +21,21 @@ log = logging.getLogger("ink-tables")
 _WAVE = WaveSettings()
 
 
-#: the request options (`add_request_arguments`) other than --ink, and their defaults
-REQUEST_DEFAULTS = {"particles": "molecular", "thickness": None, "wavelengths": None, "angles": None,
-                    "polarisation": DEFAULT_POLARISATION, "local_field": None, "accuracy": "default",
-                    "realizations": None, "target_se": None, "max_realizations": None, "azimuths": None,
-                    "tolerance": None, "tier": None, "cell": None, "grid": None, "solver_tol": None, "seed": None}
-
-
 def given_request_options(args) -> list[str]:
-    """The request options given on the command line (other than --ink), as options."""
-    return ["--" + dest.replace("_", "-") for dest, default in REQUEST_DEFAULTS.items()
-            if getattr(args, dest, default) != default]
+    """The request options (`add_request_arguments`) other than --ink that `args` gives a value
+    other than their default, as options (e.g. ['--particles'])."""
+    probe = argparse.ArgumentParser(add_help=False)
+    add_request_arguments(probe, ink_required=False)
+    defaults = vars(probe.parse_args([]))           # the one home of the options and their defaults
+    return sorted("--" + dest.replace("_", "-") for dest, default in defaults.items()
+                  if dest != "ink" and getattr(args, dest, default) != default)
 
 
 def add_request_arguments(p: argparse.ArgumentParser, ink_required: bool = True) -> None:
     """The options that make a table request (shared by `build`, `show` and the figure commands)."""
     p.add_argument("--ink", required=ink_required,
                    help="ink spec in volume percent: R15, Y7.5+B7.5, G30, clear; 'Y15/B15' prints Y15 over B15")
-    p.add_argument("--particles", default=REQUEST_DEFAULTS["particles"],
+    p.add_argument("--particles", default="molecular",
                    help=f"molecular | {PARTICLE_GRAMMAR} (D = (effective) diameter in nm; cylinders isotropic by "
                         "default; σ of ln D; kT well depth; f protruding fraction); 'a/b' per layer of a stack")
     p.add_argument("--thickness", default=None, metavar="NM[,NM…]",
@@ -50,7 +47,7 @@ def add_request_arguments(p: argparse.ArgumentParser, ink_required: bool = True)
     p.add_argument("--angles", type=int, default=None, metavar="COUNT",
                    help="number of incidence angles, uniform from 0° to 90° inclusive (default 46 for "
                         "molecular inks; particles 0,15,30,45,60,70,80,90)")
-    p.add_argument("--polarisation", choices=POLARISATIONS, default=REQUEST_DEFAULTS["polarisation"],
+    p.add_argument("--polarisation", choices=POLARISATIONS, default=DEFAULT_POLARISATION,
                    help="light the table is for (te: the paper's scalar model, which also turns the local "
                         "field off unless --local-field is given)")
     field = p.add_mutually_exclusive_group()
@@ -62,7 +59,7 @@ def add_request_arguments(p: argparse.ArgumentParser, ink_required: bool = True)
     field.add_argument("--no-local-field", dest="local_field", action="store_false", default=None,
                        help="pigments with their bulk permittivity (the paper's volume mix); the default with te")
     g = p.add_argument_group("particle inks (wave-optics tiers)")
-    g.add_argument("--accuracy", choices=tuple(ACCURACY), default=REQUEST_DEFAULTS["accuracy"],
+    g.add_argument("--accuracy", choices=tuple(ACCURACY), default="default",
                    help="preset of the settings below (docs/tables.md: error and cost of each)")
     g.add_argument("--realizations", type=int, default=None,
                    help=f"random cells per wavelength (default {_WAVE.realizations})")
