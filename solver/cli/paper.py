@@ -16,7 +16,7 @@ from ..figures import FIGURES, FigureSettings, make_figure, parse_columns, parse
 from ..table.request import ACCURACY, TIERS
 from ..table.request_checks import ignored_on_molecular
 from .build import add_run_arguments, options_from_args
-from .parsing import PARTICLE_GRAMMAR, DefaultsFormatter, uniform_angles, wavelength_range, writable_output
+from .parsing import PARTICLE_GRAMMAR, DefaultsFormatter, uniform_angles, wavelength_range, writable_outputs
 
 
 def add_parser(sub) -> None:
@@ -72,11 +72,8 @@ def run(args) -> int:
     if ignored and all(column.molecular for column in columns):
         warnings.warn(ignored_on_molecular("every column", ignored))
     opts = options_from_args(args)
-    writable_output(args.output, ".png", "-o")      # every path checked before any folder is made
-    if args.report:
-        writable_output(args.report, ".md", "--report")
-    out = writable_output(args.output, ".png", "-o", make_folder=True)
-    report = writable_output(args.report, ".md", "--report", make_folder=True) if args.report else None
+    outputs = [(args.output, ".png", "-o")] + ([(args.report, ".md", "--report")] if args.report else [])
+    out, report = (writable_outputs(outputs, make_folders=True) + [None])[:2]
     output = make_figure(args.figure, rows, columns, settings, opts, out, report)
     # cells that cannot exist (no table to plan, e.g. an unreachable concentration) are part of a
     # complete figure; a table that failed to build is a failure of this run: exit status 1

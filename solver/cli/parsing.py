@@ -59,6 +59,27 @@ def writable_output(path, suffix: str, option: str, make_folder: bool = False) -
     folder on its way, so a read-only or pseudo file system is refused before any work.  Missing
     folders are created now with `make_folder` (for writers that do not make them), else when
     the file is written."""
+    return writable_outputs([(path, suffix, option)], make_folders=make_folder)[0]
+
+
+def writable_outputs(outputs, make_folders: bool = False) -> list[Path]:
+    """`writable_output` for several (path, suffix, option): every path is checked before any
+    folder is made, so a refused one leaves no folder behind for the others."""
+    paths = [_checked_output(*output) for output in outputs]
+    for path, (_, _, option) in zip(paths, outputs) if make_folders else ():
+        try:
+            path.absolute().parent.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise _cannot_write(option, path, path.absolute().parent, exc) from None
+    return paths
+
+
+def _cannot_write(option: str, path: Path, folder: Path, exc: OSError) -> ValueError:
+    return ValueError(f"{option} '{path}': cannot write in {folder} ({exc.strerror}): choose a writable folder")
+
+
+def _checked_output(path, suffix: str, option: str) -> Path:
+    """`path` as a Path, or ValueError (writable_output's check, without making folders)."""
     path = Path(path)
     if path.suffix.lower() != suffix:
         raise ValueError(f"{option} '{path}' must end in {suffix}")
@@ -75,12 +96,8 @@ def writable_output(path, suffix: str, option: str, make_folder: bool = False) -
         os.unlink(probe)
         if path.exists() and not os.access(path, os.W_OK):
             raise PermissionError(13, f"{path.name} is read-only")
-        if make_folder:
-            folder = path.absolute().parent
-            folder.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
-        raise ValueError(f"{option} '{path}': cannot write in {folder} ({exc.strerror}): "
-                         "choose a writable folder") from None
+        raise _cannot_write(option, path, folder, exc) from None
     return path
 
 
