@@ -218,3 +218,17 @@ def test_local_field_of_each_layer_of_a_stack():
     wl = np.array([450.0])
     y = [req.layer_materials(i).pigment_eps("Y", wl)[0] for i in range(2)]
     assert y[0] != y[1]
+
+
+def test_a_thin_layer_is_warned_of_by_the_request_itself_after_validation():
+    """Every caller (CLI, scene, figure) gets the warning: table_request is its one home; an
+    invalid thickness is refused without it."""
+    import warnings
+
+    with pytest.warns(UserWarning, match="--thickness 1: a layer thinner than 50 nm"):
+        table_request("Y15/B15", thickness_nm=(1.0, 1000.0))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        table_request("G30", thickness_nm=50.0)
+        with pytest.raises(RequestError, match="--thickness"):
+            table_request("G30", thickness_nm=-1.0)

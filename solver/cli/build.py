@@ -5,7 +5,6 @@ from __future__ import annotations
 import argparse
 import logging
 import time
-import warnings
 from pathlib import Path
 
 from ..table.atomic import atomic_copy
@@ -14,7 +13,6 @@ from ..table.cache import TableCache
 from ..table.executor import default_workers
 from ..table.request import (ACCURACY, DEFAULT_POLARISATION, DEFAULT_THICKNESS_NM, POLARISATIONS, TIERS,
                              TableRequest, WaveSettings, table_request)
-from ..table.request_checks import thin_layers_warning
 from .parsing import PARTICLE_GRAMMAR, DefaultsFormatter, uniform_angles, wavelength_range, writable_output
 
 log = logging.getLogger("ink-tables")
@@ -125,15 +123,11 @@ def request_from_args(args) -> TableRequest:
         ("tier", args.tier), ("cell_nm", args.cell), ("grid", tuple(args.grid) if args.grid else None),
         ("solver_tol", args.solver_tol), ("seed", args.seed), ("target_se", args.target_se),
         ("max_realizations", args.max_realizations)) if value is not None}
-    request = table_request(
+    return table_request(
         args.ink, args.particles, thickness_nm=thickness, accuracy=args.accuracy,
         wavelengths_nm=wavelength_range(args.wavelengths) if args.wavelengths else None,
         sigma_rad=uniform_angles(args.angles) if args.angles is not None else None,
         polarisation=args.polarisation, local_field=args.local_field, **overrides)
-    thin = thin_layers_warning([layer.thickness_nm for layer in request.layers])
-    if thin:
-        warnings.warn(thin, stacklevel=2)
-    return request
 
 
 def options_from_args(args) -> BuildOptions:

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import warnings
 from dataclasses import asdict, dataclass, field, replace
 
 import numpy as np
@@ -31,7 +32,8 @@ from ..inks import Ink, parse_ink
 from ..materials import MaterialData, default_materials
 from .fingerprint import code_fingerprint
 # the names and limits requests are checked against, re-exported: callers find them here
-from .request_checks import MAX_ANGLES, OPTION, TIERS, RequestError, ignored_on_molecular, validate  # noqa: F401
+from .request_checks import (MAX_ANGLES, OPTION, TIERS, RequestError, ignored_on_molecular,  # noqa: F401
+                             thin_layers_warning, validate)
 from .schema import POLARISATIONS  # noqa: F401
 
 
@@ -314,8 +316,7 @@ def table_request(ink, particles="molecular", *, thickness_nm=None, accuracy: st
             fields["grid"] = (nx, ny, sum(max(1, round(nz * layer.thickness_nm / DEFAULT_THICKNESS_NM))
                                           for layer in layers))
         if fields["target_se"] is None and "max_realizations" in wave_overrides:
-            import warnings      # the cap of --target-se changes nothing without it: one table
-
+            # the cap of --target-se changes nothing without it: one table
             warnings.warn(f"{OPTION.get('max_realizations')} is the cap of {OPTION.get('target_se')}: "
                           "ignored without it", stacklevel=2)
             fields["max_realizations"] = preset.max_realizations
@@ -323,8 +324,6 @@ def table_request(ink, particles="molecular", *, thickness_nm=None, accuracy: st
     else:                   # the preset and settings of the wave solver mean nothing for a homogeneous layer
         ignored = (["accuracy"] if accuracy != "default" else []) + sorted(set(wave_overrides) - {"tier"})
         if ignored:
-            import warnings
-
             warnings.warn(ignored_on_molecular(LAYER_SEPARATOR.join(l.ink.label for l in layers),
                                                [OPTION.get(k, k) for k in ignored]), stacklevel=2)
     materials = materials or default_materials()
@@ -334,4 +333,7 @@ def table_request(ink, particles="molecular", *, thickness_nm=None, accuracy: st
         local_field = False                       # no pigment to correct: one table for clear varnish
     req = TableRequest(layers, grids, wave, polarisation, materials, accuracy, local_field)
     validate(req)
+    thin = thin_layers_warning([layer.thickness_nm for layer in layers])
+    if thin:                                      # valid, but most likely µm typed as nm
+        warnings.warn(thin, stacklevel=2)
     return req
