@@ -205,8 +205,8 @@ class TableRequest:
         return hashlib.sha256(text.encode()).hexdigest()[:24]
 
     def describe(self) -> str:
-        """One line that tells requests apart: the ink, the grids, and every wave setting (the
-        ones left at WaveSettings' defaults named only when they are part of every line)."""
+        """One line that tells requests apart: the ink, the grids, the sampling of a particle
+        layer, and each other wave setting that differs from WaveSettings' default."""
         wl = self.grids.wavelengths_nm
         what = (f"{self.ink_label} {self.particles_label} H={'/'.join(f'{l.thickness_nm:g}' for l in self.layers)} nm"
                 f", {self.polarisation}, {'local-field' if self.local_field else 'bulk'} pigment ε, "
@@ -214,13 +214,12 @@ class TableRequest:
         if self.molecular:
             return what
         w = self.wave
-        extra = [f"{OPTION.get(k, k)} {getattr(w, k):g}" if isinstance(getattr(w, k), float)
-                 else f"{OPTION.get(k, k)} {getattr(w, k)}"
-                 for k in ("seed", "tier", "tolerance", "solver_tol", "target_se", "max_realizations")
-                 if getattr(w, k) != getattr(_DEFAULT_WAVE, k)
-                 and (k != "max_realizations" or w.target_se is not None)]
+        others = ("seed", "tier", "tolerance", "solver_tol", "target_se") + (
+            ("max_realizations",) if w.target_se is not None else ())   # the cap means nothing alone
         return (f"{what}, {w.realizations} realizations × {w.azimuths} azimuths, grid "
-                f"{'×'.join(map(str, w.grid))} over {w.cell_nm:g} nm" + "".join(f", {e}" for e in extra))
+                f"{'×'.join(map(str, w.grid))} over {w.cell_nm:g} nm"
+                + "".join(f", {OPTION[k]} {getattr(w, k)}" for k in others
+                          if getattr(w, k) != getattr(_DEFAULT_WAVE, k)))
 
     def with_wave(self, **changes) -> "TableRequest":
         """The same request with some wave settings changed (validated)."""
