@@ -47,9 +47,9 @@ llvm: $(LLVM_STAMP)
 # ------------------------------------------------------------------- targets
 TABLE_DIR := $(OUT)/tables
 
-# the demo inks (inkbsdf/demo_tables.py): missing or unreadable tables are (re)built
+# the demo inks (inkbsdf/apps/demo_tables.py): missing or unreadable tables are (re)built
 tables: $(LLVM_STAMP)
-	@$(VPY) -m inkbsdf.demo_tables $(TABLE_DIR)
+	@$(VPY) -m inkbsdf.apps.demo_tables $(TABLE_DIR)
 
 demo: tables
 	$(VPY) -m inkbsdf.render scenes/printed_page.xml --tables $(TABLE_DIR) \

@@ -28,12 +28,12 @@ from pathlib import Path
 
 import numpy as np
 
-from solver.figures.cell_colour import cell_colour, lab_jacobian, node_errors, propagate_se
-from solver.figures.cells import CellResult, FigureSettings, plan_cells
-from solver.figures.fig6 import DPHI_SAMPLES, azimuth_averaged, figure6, pixel_angles_rad
-from solver.figures.layout import CellGeometry
-from solver.figures.make import draw_grid_figure, duration, evaluate_cells
-from solver.figures.paper_grid import FIG7_COLUMNS, FIG7_ROWS, FIGURES, Column
+from solver.apps.figures.cell_colour import cell_colour, lab_jacobian, node_errors, propagate_se
+from solver.apps.figures.cells import CellResult, FigureSettings, plan_cells
+from solver.apps.figures.fig6 import DPHI_SAMPLES, azimuth_averaged, figure6, pixel_angles_rad
+from solver.apps.figures.layout import CellGeometry
+from solver.apps.figures.make import draw_grid_figure, duration, evaluate_cells
+from solver.apps.figures.paper_grid import FIG7_COLUMNS, FIG7_ROWS, FIGURES, Column
 from solver.table import preflight
 from solver.table.builder import BuildOptions, build_table
 from solver.table.cache import TableCache
@@ -134,7 +134,7 @@ PRESET_CELLS = (("R30", "sphere:100"), ("Y7.5+B7.5", "sphere:300"), ("B30", "cyl
 def preset_errors() -> None:
     """Each accuracy preset's colour against `fine` (ΔE2000 of the CSV's colour: D65, paper 0.9,
     diffuse light, 0° view) and its build time, on PRESET_CELLS."""
-    from solver.separation.colour_space import delta_e2000
+    from solver.apps.separation.colour_space import delta_e2000
     from solver.table.builder import get_or_build
 
     print("\n4. accuracy presets against fine (ΔE2000 of the cell colour; build seconds from an empty cache, "
@@ -163,7 +163,7 @@ def fig7_preview() -> None:
     OUT.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(prefix="fig7_") as tmp:
         t0 = time.perf_counter()
-        out = subprocess.run([sys.executable, "-m", "solver.cli", "paper", "fig7", "--accuracy", "preview",
+        out = subprocess.run([sys.executable, "-m", "solver.apps.cli", "paper", "fig7", "--accuracy", "preview",
                               "--cache", tmp, "--no-progress", "--report", str(OUT / "fig7_preview.md"),
                               "-o", str(OUT / "fig7_preview.png")], capture_output=True, text=True, check=True)
         wall = time.perf_counter() - t0
@@ -179,7 +179,7 @@ STEP_PAIRS = (("molecular", "sphere:300"), ("sphere:100", "sphere:200"), ("molec
 def map_steps(csv_path: Path = Path("docs/data/fig7_preview.csv")) -> None:
     """The map's own colour steps between columns (ΔE2000 over the rows of a figure CSV), the
     scale the presets' errors are judged against."""
-    from solver.separation.colour_space import delta_e2000
+    from solver.apps.separation.colour_space import delta_e2000
 
     lab = _csv_lab(csv_path)
     print(f"\n6. the map's steps between columns, ΔE2000 over the rows ({csv_path}):")
@@ -190,7 +190,7 @@ def map_steps(csv_path: Path = Path("docs/data/fig7_preview.csv")) -> None:
 
 def _csv_lab(path: Path) -> dict:
     """{(ink, column): CIELAB} of a figure CSV's built cells."""
-    from solver.figures.records import read_csv
+    from solver.apps.figures.records import read_csv
 
     return {(r.ink, r.column): r.lab for r in read_csv(path) if r.ok}
 
@@ -198,7 +198,7 @@ def _csv_lab(path: Path) -> dict:
 def preview_vs_default(preview: Path = Path("docs/data/fig7_preview.csv"),
                        default: Path = Path("docs/data/fig7_default_R15.csv")) -> None:
     """ΔE2000 between the cells a `default` CSV shares with the `preview` one."""
-    from solver.separation.colour_space import delta_e2000
+    from solver.apps.separation.colour_space import delta_e2000
 
     a, b = _csv_lab(preview), _csv_lab(default)
     common = sorted(set(a) & set(b))

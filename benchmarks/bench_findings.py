@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from solver.colour import lab_hue_chroma
-from solver.figures.cell_colour import cell_lab, cell_srgb8, delta_e, saturation
+from solver.apps.figures.cell_colour import cell_lab, cell_srgb8, delta_e, saturation
 from solver.table.builder import BuildOptions, build_table
 from solver.table.cache import TableCache
 from solver.table.request import table_request
@@ -40,7 +40,7 @@ CASES += [("Y15+B15", p) for p in ("molecular", "sphere:100", "sphere:300")]
 
 def colour(table) -> tuple[np.ndarray, np.ndarray]:
     """CIELAB and sRGB8 of the ink on paper r = 0.9 under uniform diffuse light, seen at 0°
-    (the colour of a figure cell: solver.figures.cell_colour)."""
+    (the colour of a figure cell: solver.apps.figures.cell_colour)."""
     return cell_lab(table), cell_srgb8(table)
 
 

@@ -88,7 +88,7 @@ def worker(variant: str, which: str, tables: str, spp: int, width: int, height: 
     import mitsuba as mi
 
     import inkbsdf
-    from inkbsdf.render import load_scene, scene_parameters
+    from inkbsdf.apps.render import load_scene, scene_parameters
 
     from .bench_render import roughplastic_scene
 
@@ -124,7 +124,7 @@ def stokes_picture(tables: str, spp: int, width: int, height: int, path: Path) -
     from matplotlib.colors import hsv_to_rgb
 
     import inkbsdf
-    from inkbsdf.render import scene_parameters
+    from inkbsdf.apps.render import scene_parameters
 
     mi.set_variant(VARIANTS[1])
     inkbsdf.register()
@@ -160,7 +160,7 @@ def stokes_picture(tables: str, spp: int, width: int, height: int, path: Path) -
 
 
 def run(spp=32, width=320, height=256, rounds=2, repeats=3, tables=None) -> dict:
-    from inkbsdf.demo_tables import build_tables
+    from inkbsdf.apps.demo_tables import build_tables
 
     times = {(v, s): [] for v in VARIANTS for s in KINDS}
     first = {key: [] for key in times}

@@ -227,7 +227,7 @@ def main(argv=None) -> int:
     predictor_timing()
     if args.colour_only:
         return 0
-    from inkbsdf.demo_tables import build_tables
+    from inkbsdf.apps.demo_tables import build_tables
 
     xml = SCENE.read_text()
     with tempfile.TemporaryDirectory() as tmp:

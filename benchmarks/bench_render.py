@@ -58,8 +58,8 @@ def run(spp=64, width=640, height=512, repeats=3, tables=None) -> dict:
     import mitsuba as mi
 
     import inkbsdf
-    from inkbsdf.demo_tables import build_tables
-    from inkbsdf.render import load_scene, scene_parameters
+    from inkbsdf.apps.demo_tables import build_tables
+    from inkbsdf.apps.render import load_scene, scene_parameters
 
     mi.set_variant(inkbsdf.default_variant())
     inkbsdf.register()

@@ -1,4 +1,4 @@
-"""Colour separation and halftoning (solver.separation): speed, accuracy knobs, demo render.
+"""Colour separation and halftoning (solver.apps.separation): speed, accuracy knobs, demo render.
 
     python -m benchmarks.bench_separation [--quick] [--no-render]
 
@@ -46,7 +46,7 @@ def _timed(fn, repeats=1):
 
 
 def photo_separation(printed) -> None:
-    from solver.separation import PrintColourModel, read_srgb8, separate_image
+    from solver.apps.separation import PrintColourModel, read_srgb8, separate_image
 
     rgb8 = read_srgb8(PHOTO)
     print(f"\n1. separation of the demo photograph ({rgb8.shape[1]}×{rgb8.shape[0]} px), R30/Y30/B30, paper 0.9")
@@ -61,8 +61,8 @@ def photo_separation(printed) -> None:
 def knob_study(printed, quick: bool) -> None:
     from scipy.spatial import cKDTree
 
-    from solver.separation import PrintColourModel, SolverSettings, read_srgb8, separate_lab, srgb8_to_lab, unique_colours
-    from solver.separation.solve import jacobian
+    from solver.apps.separation import PrintColourModel, SolverSettings, read_srgb8, separate_lab, srgb8_to_lab, unique_colours
+    from solver.apps.separation.solve import jacobian
 
     model = PrintColourModel.build(printed, 0.9, "clapper-yule")
     rng = np.random.default_rng(7)
@@ -95,7 +95,7 @@ def knob_study(printed, quick: bool) -> None:
 
 
 def throughput(printed) -> None:
-    from solver.separation import PrintColourModel
+    from solver.apps.separation import PrintColourModel
 
     n = 65536
     c = np.random.default_rng(1).random((n, 3))
@@ -108,8 +108,8 @@ def throughput(printed) -> None:
 
 
 def halftoning() -> None:
-    from solver.separation import TexelGrid, halftone_ink, parse_dots, texture_mean
-    from solver.separation.halftone import coverage_at_texels
+    from solver.apps.separation import TexelGrid, halftone_ink, parse_dots, texture_mean
+    from solver.apps.separation.halftone import coverage_at_texels
 
     y, x = np.mgrid[0:270, 0:360]
     img = np.clip(0.5 + 0.45 * np.sin(x / 23.0) * np.cos(y / 17.0), 0, 1)
@@ -128,8 +128,8 @@ def halftoning() -> None:
 def aligned_screen() -> None:
     """A 0° screen of 8 × 8-texel cells: spot-area thresholds (equal between symmetric texels)
     against the cell's ranks (what am_threshold uses)."""
-    from solver.separation import am_threshold
-    from solver.separation.screens import spot_area
+    from solver.apps.separation import am_threshold
+    from solver.apps.separation.screens import spot_area
 
     n, lpi = 8, 25.0
     f = (np.arange(256) + 0.5) / n
@@ -155,7 +155,7 @@ def _render_once(scene: Path, tables: Path) -> tuple[float, float, float]:
 
 
 def demo_render(rounds: int) -> None:
-    from inkbsdf.demo_tables import build_tables
+    from inkbsdf.apps.demo_tables import build_tables
 
     xml = SCENE.read_text()
     without = re.sub(r"\n    <!-- the photograph:.*?</shape>\n", "\n", xml, flags=re.S)
@@ -187,7 +187,7 @@ def main(argv=None) -> None:
     p.add_argument("--quick", action="store_true", help="smaller knob study, 2 render rounds")
     p.add_argument("--no-render", action="store_true", help="skip the demo render timing")
     args = p.parse_args(argv if argv is not None else sys.argv[1:] if __name__ == "__main__" else [])
-    from solver.separation import printed_inks
+    from solver.apps.separation import printed_inks
 
     printed = printed_inks(INKS)
     photo_separation(printed)

@@ -52,7 +52,7 @@ def _build_cli(tree: Path, cache: Path, out: Path, workers: int) -> float:
     """Wall seconds of `ink-tables build` of the default particle table from an empty cache,
     run with the sources of `tree`."""
     t0 = time.perf_counter()
-    run_python(tree, ["-m", "solver.cli", "build", "--ink", INK, "--particles", PARTICLES, "--workers",
+    run_python(tree, ["-m", "solver.apps.cli", "build", "--ink", INK, "--particles", PARTICLES, "--workers",
                       str(workers), "--cache", str(cache), "--no-progress", "-o", str(out)],
                capture_output=True)
     return time.perf_counter() - t0

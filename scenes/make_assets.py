@@ -6,7 +6,7 @@ printed_page.xml: an A4 sheet (cm) with a colour chart of six ink patches (R30, 
 the particle-free Y25+B5 mix and clear varnish), their labels, a title and a paragraph printed
 in B30 through a coverage texture (white = ink), and a photograph (a still life the project
 renders, `still_life.py`) printed with R30, Y30 and B30 as AM halftone dots — separated and
-screened by `solver.separation`, as `python -m inkbsdf.print` does — on a dark table under a
+screened by `solver.apps.separation`, as `python -m inkbsdf.print` does — on a dark table under a
 sky-gradient environment and a softbox at a low angle whose mirror image puts the inks' sheen
 on the far row of patches.  Its inks are table files (`make tables`).
 particle_inks.xml: the same page with one pigment load, Y7.5+B7.5, as a molecular mix and as
@@ -17,7 +17,7 @@ in the scene (`ink`, `particles`): loading it builds the missing tables through 
 The outputs are committed; rerun after changing a layout (the photograph's separation takes
 a few seconds; `--no-photo` keeps the committed photograph textures, `--render-photo` renders
 the still life again).
-Scene pieces shared with `python -m inkbsdf.print` live in `inkbsdf/pagescene.py`.
+Scene pieces shared with `python -m inkbsdf.print` live in `inkbsdf/apps/pagescene.py`.
 """
 
 from __future__ import annotations
@@ -30,7 +30,7 @@ from pathlib import Path
 import numpy as np
 
 HERE = Path(__file__).resolve().parent
-from inkbsdf.pagescene import (A4_CM, CAMERA_EYE_CM, SOFTBOX_HEIGHT_CM, PATCH_LIFT_CM,  # noqa: F401
+from inkbsdf.apps.pagescene import (A4_CM, CAMERA_EYE_CM, SOFTBOX_HEIGHT_CM, PATCH_LIFT_CM,  # noqa: F401
                                Stage, bitmap_xml, ink_bsdf_xml, print_shape_xml, rect_transform,
                                scene_document, stage_xml, write_sky)
 
@@ -69,7 +69,7 @@ class Photo:
     """A photograph printed on the page (textures/<page>_photo*.png)."""
 
     inks: tuple              # printing order (demo table files)
-    dots: str                # solver.separation.parse_dots
+    dots: str                # solver.apps.separation.parse_dots
     u_cm: float              # centre
     v_cm: float
     width_cm: float          # height from the image's aspect ratio
@@ -140,7 +140,7 @@ def photo_size_cm(photo: Photo) -> tuple:
 
 def photo_texture_files(page: Page) -> list:
     """The photograph's coverage textures (relative to scenes/), printing order."""
-    from solver.separation.job import texture_name
+    from solver.apps.separation.job import texture_name
 
     return [f"textures/{texture_name(page.name + '_photo', i, ink)}" for i, ink in enumerate(page.photo.inks)]
 
@@ -195,12 +195,12 @@ def make_text_texture(page: Page, path: Path) -> None:
 
 
 def make_photo_textures(page: Page, render: bool) -> None:
-    """Separate and halftone the photograph (solver.separation), write the textures; `render`
+    """Separate and halftone the photograph (solver.apps.separation), write the textures; `render`
     (or no photograph yet): render the still life first (LLVM's multithreaded film sums are
     not bit-reproducible, so the committed photograph is kept otherwise)."""
     from still_life import render_still_life
 
-    from solver.separation import (PrintSettings, parse_dots, print_image, printed_inks, read_srgb8,
+    from solver.apps.separation import (PrintSettings, parse_dots, print_image, printed_inks, read_srgb8,
                                    write_rgb_png)
 
     photo = page.photo
@@ -213,7 +213,7 @@ def make_photo_textures(page: Page, render: bool) -> None:
     for line in result.separation.report.lines():
         print(f"{page.name} photograph: {line}")
     for name, texture in zip(photo_texture_files(page), result.textures):
-        from solver.separation import write_grey_png
+        from solver.apps.separation import write_grey_png
 
         write_grey_png(HERE / name, texture)
 
@@ -235,7 +235,7 @@ def _ink_source(page: Page, ink: str, particles: str | None) -> str:
 
 
 def _photo_xml(page: Page) -> str:
-    from solver.separation import PrintSettings, parse_dots
+    from solver.apps.separation import PrintSettings, parse_dots
 
     photo = page.photo
     settings = PrintSettings(inks=photo.inks, dots=parse_dots(photo.dots))

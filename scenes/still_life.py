@@ -73,7 +73,7 @@ def render_still_life(width: int = SIZE[0], height: int = SIZE[1], spp: int = SP
     scalar_rgb; the previous variant is restored)."""
     import mitsuba as mi
 
-    from inkbsdf.imageio import srgb_encode
+    from inkbsdf.apps.imageio import srgb_encode
 
     previous = mi.variant()
     mi.set_variant("llvm_ad_rgb" if "llvm_ad_rgb" in mi.variants() else "scalar_rgb")

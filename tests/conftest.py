@@ -44,7 +44,7 @@ def _private_table_cache(tmp_path_factory):
 @pytest.fixture(scope="session")
 def ink_tables(tmp_path_factory):
     """{ink: path} of the demo inks' tables (built once per test session, ~0.1 s each)."""
-    from inkbsdf.demo_tables import build_tables
+    from inkbsdf.apps.demo_tables import build_tables
 
     return build_tables(tmp_path_factory.mktemp("tables"))
 

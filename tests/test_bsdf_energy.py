@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from bsdf_probes import ink_bsdf, quadrature_albedo, sampled_albedo
-from inkbsdf.demo_tables import DEMO_INKS, build_tables
+from inkbsdf.apps.demo_tables import DEMO_INKS, build_tables
 from inkbsdf.lut import load_lut
 from oracles import CY, MD, reference_albedo
 from solver.table import read_table

@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from conftest import run_main
-from solver.cli import main
-from solver.cli.parsing import wavelength_range
+from solver.apps.cli import main
+from solver.apps.cli.parsing import wavelength_range
 from solver.table import read_table
 
 
@@ -52,7 +52,7 @@ def test_bad_input_is_one_line(tmp_path, monkeypatch, capsys, args, words):
 
 def test_console_script_reports_bad_input(tmp_path):
     """The installed entry point: exit 2, one line on stderr."""
-    res = subprocess.run([sys.executable, "-m", "solver.cli", "build", "--ink", "Q5", "-o", str(tmp_path / "x.npz")],
+    res = subprocess.run([sys.executable, "-m", "solver.apps.cli", "build", "--ink", "Q5", "-o", str(tmp_path / "x.npz")],
                          capture_output=True, text=True)
     assert res.returncode == 2, res.stderr
     assert "unknown pigment 'Q'" in res.stderr and res.stderr.count("\n") == 1, res.stderr
@@ -160,13 +160,13 @@ def test_paper_warns_of_particle_options_only_without_particle_columns(columns, 
 
 
 def test_verbose_before_or_after_the_subcommand_adds_debug_lines(tmp_path):
-    from solver.cli import make_parser
+    from solver.apps.cli import make_parser
 
     argv = ["build", "--ink", "G30", *TINY, "--cache", str(tmp_path / "cache"), "-o", str(tmp_path / "g.npz")]
     assert [make_parser().parse_args(a).verbose for a in (argv, ["-v"] + argv, argv + ["-v"], argv + ["--verbose"])] \
         == [False, True, True, True]
     for extra, debug in (([], False), (["-v"], True)):          # as a user sees it: the installed entry point
-        res = subprocess.run([sys.executable, "-m", "solver.cli", *argv, *extra], capture_output=True, text=True)
+        res = subprocess.run([sys.executable, "-m", "solver.apps.cli", *argv, *extra], capture_output=True, text=True)
         assert res.returncode == 0, res.stderr
         assert ("DEBUG ink-tables: request G30" in res.stderr) == debug, res.stderr
         assert "cache key" in res.stderr if debug else "DEBUG" not in res.stderr
@@ -219,7 +219,7 @@ def test_a_layer_thinner_than_50_nm_is_warned_of(tmp_path, capsys):
 
 
 def test_cell_failures_show_the_message_of_a_refusal():
-    from solver.figures.cells import failure_reason
+    from solver.apps.figures.cells import failure_reason
 
     assert failure_reason(ValueError("cylinder:300:vertical cannot\n hold R50")) == \
         "cylinder:300:vertical cannot hold R50"

@@ -3,7 +3,7 @@
 import matplotlib.image
 import numpy as np
 
-from solver.cli import main
+from solver.apps.cli import main
 from solver.materials import PIGMENT_DISPLAY_RGB
 
 SMALL = ["--cell", "800", "--thickness", "500", "--grid", "32", "32", "20"]

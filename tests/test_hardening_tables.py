@@ -13,12 +13,12 @@ import numpy as np
 import pytest
 
 from conftest import process_group, run_main
-from solver.cli import main
+from solver.apps.cli import main
 from solver.table.builder import BuildOptions, build_table, get_or_build
 from solver.table.cache import TableCache
 from solver.table.request import table_request
 
-CLI = [sys.executable, "-m", "solver.cli"]
+CLI = [sys.executable, "-m", "solver.apps.cli"]
 SMALL = ["--ink", "Y7.5+B7.5", "--particles", "sphere:300", "--wavelengths", "400:700:20", "--angles", "4",
          "--grid", "24", "24", "12", "--realizations", "1", "--azimuths", "2", "--tier", "full", "--no-progress"]
 

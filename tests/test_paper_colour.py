@@ -7,13 +7,13 @@ import numpy as np
 import pytest
 
 from conftest import diffuse_layer_table
-from solver.figures.cell_colour import (SE_COLUMNS, cell_colour, cell_lab, lab_jacobian, node_errors,
+from solver.apps.figures.cell_colour import (SE_COLUMNS, cell_colour, cell_lab, lab_jacobian, node_errors,
                                         propagate_se, saturation, spectrum_lab)
-from solver.figures.fig6 import azimuth_averaged, crossed_out, figure6, plot_figure6
-from solver.figures.findings import evaluate, report
-from solver.figures.layout import CellGeometry, GridLayout, column_groups
-from solver.figures.paper_grid import FIG7_COLUMNS, FIG7_ROWS, FIG8_ROWS, parse_columns, parse_rows
-from solver.figures.records import CellRecord, read_csv, write_csv
+from solver.apps.figures.fig6 import azimuth_averaged, crossed_out, figure6, plot_figure6
+from solver.apps.figures.findings import evaluate, report
+from solver.apps.figures.layout import CellGeometry, GridLayout, column_groups
+from solver.apps.figures.paper_grid import FIG7_COLUMNS, FIG7_ROWS, FIG8_ROWS, parse_columns, parse_rows
+from solver.apps.figures.records import CellRecord, read_csv, write_csv
 from solver.inks import parse_ink
 from solver.table.evaluate import diffuse_brdf, directional_albedo
 from solver.table.thinfilm_tier import build_thinfilm_table

@@ -8,16 +8,16 @@ import matplotlib.image
 import numpy as np
 import pytest
 
-import solver.figures.cells as cells_mod
+import solver.apps.figures.cells as cells_mod
 from conftest import run_main
 from oracles import airy_slab
-from solver.cli import main
-from solver.figures.cells import FigureSettings, across_particles, build_cells, plan_cells
-from solver.figures.draw import RULE_GREY
-from solver.figures.fig6 import crossed_out, figure6
-from solver.figures.layout import CellGeometry, GridLayout, grid_labels, header_rules
-from solver.figures.make import grid_caption, spectra_panels
-from solver.figures.paper_grid import TITLES, parse_columns, parse_rows
+from solver.apps.cli import main
+from solver.apps.figures.cells import FigureSettings, across_particles, build_cells, plan_cells
+from solver.apps.figures.draw import RULE_GREY
+from solver.apps.figures.fig6 import crossed_out, figure6
+from solver.apps.figures.layout import CellGeometry, GridLayout, grid_labels, header_rules
+from solver.apps.figures.make import grid_caption, spectra_panels
+from solver.apps.figures.paper_grid import TITLES, parse_columns, parse_rows
 from solver.inks import molecular_eps, parse_ink
 from solver.materials import DISSOLVED_FIELD, default_materials
 from solver.table.builder import BuildOptions
@@ -143,7 +143,7 @@ def test_failing_cell_is_crossed_out_not_dropped(tmp_path, particle_tables_fail,
 
 
 def test_a_table_that_cannot_be_drawn_fails_its_cell_only(tmp_path, monkeypatch):
-    import solver.figures.make as make
+    import solver.apps.figures.make as make
 
     real = make.figure6
 
@@ -239,7 +239,7 @@ def test_bad_input_is_one_line_before_any_work(tmp_path, capsys, args, words):
 
 def test_output_must_be_a_png(tmp_path):
     """As the installed command: exit 2, one line."""
-    res = subprocess.run([sys.executable, "-m", "solver.cli", "paper", "fig9", "-o", str(tmp_path / "x.jpg")],
+    res = subprocess.run([sys.executable, "-m", "solver.apps.cli", "paper", "fig9", "-o", str(tmp_path / "x.jpg")],
                          capture_output=True, text=True)
     assert res.returncode == 2 and ".png" in res.stderr and res.stderr.count("\n") == 1, res.stderr
 

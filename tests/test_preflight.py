@@ -7,7 +7,7 @@ import time
 import pytest
 from conftest import run_main
 
-from solver.cli import main
+from solver.apps.cli import main
 from solver.table import preflight
 from solver.table.builder import BuildOptions, get_or_build
 from solver.table.cache import TableCache

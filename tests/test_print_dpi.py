@@ -5,9 +5,9 @@ import numpy as np
 import pytest
 
 from conftest import run_main
-from inkbsdf.print import main
-from solver.separation import DotsError, parse_dots
-from solver.separation.halftone import (AM_MIN_TEXELS_PER_CELL, FM_MIN_DPI, TexelGrid, check_dpi,
+from inkbsdf.apps.print import main
+from solver.apps.separation import DotsError, parse_dots
+from solver.apps.separation.halftone import (AM_MIN_TEXELS_PER_CELL, FM_MIN_DPI, TexelGrid, check_dpi,
                                         min_dpi)
 
 

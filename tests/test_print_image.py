@@ -9,7 +9,7 @@ import pytest
 
 from bsdf_probes import surface_interaction
 from conftest import ROOT, run_main, scene_script
-from inkbsdf.print import main
+from inkbsdf.apps.print import main
 
 
 @pytest.fixture(scope="module")
@@ -61,8 +61,8 @@ def test_prints_textures_and_scene(tiny_image, tmp_path, capsys, dots):
 @pytest.mark.render
 def test_printed_page_renders(tiny_image, tmp_path, capsys):
     """The scene of a printed image renders (few spp) to a finite image."""
-    from inkbsdf.imageio import read_exr
-    from inkbsdf.render import main as render
+    from inkbsdf.apps.imageio import read_exr
+    from inkbsdf.apps.render import main as render
 
     assert run([tiny_image, "--inks", "R30,Y30,B30", "--dots", "AM:60", "--size", "4",
                 "-o", tmp_path / "page.xml", "--quiet"], capsys)[0] == 0
@@ -140,7 +140,7 @@ def test_demo_photograph_textures_are_current():
     defaults (e.g. their polarisation) moves about 1 %."""
     from PIL import Image
 
-    from solver.separation import PrintSettings, parse_dots, print_image, printed_inks, read_srgb8
+    from solver.apps.separation import PrintSettings, parse_dots, print_image, printed_inks, read_srgb8
 
     ma = scene_script("make_assets")
 
@@ -162,7 +162,7 @@ def test_bsdf_over_binary_dots_shows_murray_davies(use_variant, tmp_path):
     import drjit as dr
 
     from solver.printing import brdf_smooth
-    from solver.separation import TexelGrid, halftone_ink, parse_dots, printed_inks, write_grey_png
+    from solver.apps.separation import TexelGrid, halftone_ink, parse_dots, printed_inks, write_grey_png
 
     mi = use_variant("llvm_ad_spectral")
     cov = (0.35, 0.5, 0.25)

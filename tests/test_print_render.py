@@ -40,7 +40,7 @@ def scene_dict(mi, paths, textures, model):
 @pytest.mark.parametrize("model", ["clapper-yule", "murray-davies"])
 def test_three_overlapping_textures_render(use_variant, tmp_path, model):
     mi = use_variant("llvm_ad_spectral")
-    from inkbsdf.imageio import write_png
+    from inkbsdf.apps.imageio import write_png
     from inkbsdf.inks import stack_provider
 
     paths = [write_table(tmp_path / f"{ink}.npz", film(ink)) for ink in ("R30", "Y30", "B30")]

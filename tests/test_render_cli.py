@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from conftest import DEMO_SCENE
-from inkbsdf.render import main, scene_parameters
+from inkbsdf.apps.render import main, scene_parameters
 
 SCENE = DEMO_SCENE
 
@@ -53,7 +53,7 @@ def test_module_entry_point_renders(tmp_path, ink_tables):
                           capture_output=True, text=True, timeout=120)
     assert proc.returncode == 0, proc.stderr
     assert "render" in proc.stdout and " s " in proc.stdout
-    from inkbsdf.imageio import read_exr
+    from inkbsdf.apps.imageio import read_exr
 
     image = read_exr(exr)
     assert image.shape == (40, 48, 3) and np.all(np.isfinite(image))
@@ -63,7 +63,7 @@ def test_module_entry_point_renders(tmp_path, ink_tables):
 @pytest.mark.render
 def test_scene_without_parameters_renders_and_says_what_it_ignored(tmp_path, ink_tables, capsys):
     """Mitsuba refuses parameters a scene does not take: the CLI passes only those it takes."""
-    from inkbsdf.render import scene_parameter_names
+    from inkbsdf.apps.render import scene_parameter_names
 
     scene = tmp_path / "bare.xml"
     scene.write_text(f"""<scene version="3.0.0">
@@ -78,7 +78,7 @@ def test_scene_without_parameters_renders_and_says_what_it_ignored(tmp_path, ink
     exr = tmp_path / "bare.exr"
     assert main([str(scene), "--spp", "2", "--width", "64", "-o", str(exr)]) == 0
     assert capsys.readouterr().err == f"warning: {scene} takes no parameter $width; ignored\n"
-    from inkbsdf.imageio import read_exr
+    from inkbsdf.apps.imageio import read_exr
 
     assert read_exr(exr).shape == (12, 16, 3)          # the scene's own film, not --width
     scene.write_text(scene.read_text().replace('<integrator type="path"/>', ""))
@@ -211,7 +211,7 @@ def test_entry_point_bad_input_has_no_traceback(tmp_path, ink_tables, unwritable
 def test_spp_defaults_to_the_scenes_own(tmp_path, ink_tables, capsys):
     """Without --spp the scene's sample count is used (and said): the image equals an explicit
     render at that count with the same seed, and differs from one at the old fixed 64."""
-    from inkbsdf.imageio import read_exr
+    from inkbsdf.apps.imageio import read_exr
 
     r30 = table_param(ink_tables["R30"])
     scene = bare_scene(tmp_path, r30, spp="$spp", defaults='<default name="spp" value="3"/>')
@@ -323,7 +323,7 @@ def test_ctrl_c_during_scene_load_stops_table_workers(tmp_path):
 
 # ------------------------------------------------------------------------------- imageio
 def test_png_warns_with_the_count_of_non_finite_pixels(tmp_path):
-    from inkbsdf.imageio import NonFiniteWarning, write_png
+    from inkbsdf.apps.imageio import NonFiniteWarning, write_png
 
     image = np.full((4, 5, 3), 0.5, dtype=np.float32)
     image[0, 0, 1] = np.nan
@@ -341,7 +341,7 @@ def test_png_warns_with_the_count_of_non_finite_pixels(tmp_path):
 
 @pytest.mark.parametrize("stops", [float("nan"), float("inf"), -float("inf")])
 def test_non_finite_exposure_refused(tmp_path, stops):
-    from inkbsdf.imageio import srgb_encode, write_png
+    from inkbsdf.apps.imageio import srgb_encode, write_png
 
     image = np.full((2, 2, 3), 0.5, dtype=np.float32)
     with pytest.raises(ValueError, match="exposure must be a finite"):
@@ -352,7 +352,7 @@ def test_non_finite_exposure_refused(tmp_path, stops):
 
 
 def test_image_writers_check_the_extension(tmp_path):
-    from inkbsdf.imageio import write_exr, write_png
+    from inkbsdf.apps.imageio import write_exr, write_png
 
     image = np.zeros((2, 2, 3), dtype=np.float32)
     with pytest.raises(ValueError, match=r"must end in \.exr"):
@@ -365,7 +365,7 @@ def test_image_writers_check_the_extension(tmp_path):
 def test_cli_says_non_finite_pixels_in_one_warning_line(tmp_path, ink_tables, monkeypatch, capsys):
     """A render with NaN pixels (a stand-in for a broken scene): the PNG is written, and stderr
     says how many pixels, in one `warning:` line (no source-line echo)."""
-    import inkbsdf.render as render
+    import inkbsdf.apps.render as render
 
     def broken_render(scene, spp=None, seed=0):
         image = np.full((10, 12, 3), 0.25, dtype=np.float32)

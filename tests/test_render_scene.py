@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from conftest import DEMO_SCENE
-from inkbsdf.demo_tables import DEMO_INKS
+from inkbsdf.apps.demo_tables import DEMO_INKS
 
 pytestmark = pytest.mark.render
 SCENE = DEMO_SCENE
@@ -56,8 +56,8 @@ def lab_relative_to(rgb, white_rgb):
 
 @pytest.fixture(scope="module")
 def rendered(tmp_path_factory, ink_tables):
-    from inkbsdf.imageio import read_exr
-    from inkbsdf.render import main
+    from inkbsdf.apps.imageio import read_exr
+    from inkbsdf.apps.render import main
 
     out = tmp_path_factory.mktemp("render")
     tables = ink_tables["clear"].parent
@@ -80,7 +80,7 @@ def test_render_is_finite(rendered):
 def test_patch_hues(rendered, use_variant):
     image, tables = rendered
     mi = use_variant("llvm_ad_spectral")
-    from inkbsdf.render import load_scene
+    from inkbsdf.apps.render import load_scene
 
     masks = shape_masks(mi, load_scene(SCENE, tables=tables, width=WIDTH, height=HEIGHT), WIDTH, HEIGHT)
     paper = np.median(image[erode(masks["page"], ERODE_PX)], axis=0)

@@ -10,12 +10,12 @@ import pytest
 
 from solver.materials import default_materials, load_material_data
 from solver.table.fingerprint import file_digest
-from solver.cli.parsing import wavelength_range
+from solver.apps.cli.parsing import wavelength_range
 from solver.table.request import RequestError, table_request
 
 
 def _cli_request(*argv):
-    from solver.cli.build import add_parser, request_from_args
+    from solver.apps.cli.build import add_parser, request_from_args
 
     parser = argparse.ArgumentParser()
     add_parser(parser.add_subparsers())
@@ -51,7 +51,7 @@ def test_every_entry_point_makes_the_same_request(ink, particles):
 
 
 def test_demo_tables_are_the_cli_tables(tmp_path):
-    from inkbsdf.demo_tables import build_tables
+    from inkbsdf.apps.demo_tables import build_tables
     from solver.table import read_table
 
     table = read_table(build_tables(tmp_path, ["G30"])["G30"])
@@ -60,7 +60,7 @@ def test_demo_tables_are_the_cli_tables(tmp_path):
 
 def test_make_tables_rebuilds_demo_tables_of_another_request(tmp_path, capsys):
     """`make tables` keeps a current table, rebuilds one another request (or older code) made."""
-    from inkbsdf.demo_tables import DEMO_INKS, build_tables, main
+    from inkbsdf.apps.demo_tables import DEMO_INKS, build_tables, main
     from solver.table import read_table
 
     build_tables(tmp_path)

@@ -1,4 +1,4 @@
-"""Halftoning (solver.separation.screens, .halftone): dots keep each ink's mean coverage (AM at
+"""Halftoning (solver.apps.separation.screens, .halftone): dots keep each ink's mean coverage (AM at
 the classic angles, FM), inks are placed independently (overlap = product of coverages, as the
 Demichel weights assume), the FM tile is blue noise, and a render of binary dots shows the
 Murray–Davies mix of the dot areas (why `auto` separates dots with murray-davies)."""
@@ -6,12 +6,12 @@ Murray–Davies mix of the dot areas (why `auto` separates dots with murray-davi
 import numpy as np
 import pytest
 
-from solver.separation import (Dots, DotsError, PrintColourModel, TexelGrid, am_threshold, blue_noise_mask,
+from solver.apps.separation import (Dots, DotsError, PrintColourModel, TexelGrid, am_threshold, blue_noise_mask,
                                fm_threshold, halftone_ink, parse_dots, printed_inks, resolve_coverage_model,
                                screen_angles, texture_mean)
-from solver.separation.colour_space import lab_from_xyz
-from solver.separation.halftone import coverage_at_texels
-from solver.separation.screens import aligned_cell, spot_area
+from solver.apps.separation.colour_space import lab_from_xyz
+from solver.apps.separation.halftone import coverage_at_texels
+from solver.apps.separation.screens import aligned_cell, spot_area
 
 LPI = 25.0
 TEXEL_IN = 1.0 / (8 * LPI)          # the default: 8 texels per screen period

@@ -1,11 +1,11 @@
-"""Images in (solver.separation.image): modes Pillow reads become 8-bit sRGB (transparency over
+"""Images in (solver.apps.separation.image): modes Pillow reads become 8-bit sRGB (transparency over
 white paper, 16-bit rounded, grey neutral); distinct colours index back to the pixels."""
 
 import numpy as np
 import pytest
 from PIL import Image
 
-from solver.separation import ImageError, read_srgb8, unique_colours
+from solver.apps.separation import ImageError, read_srgb8, unique_colours
 
 
 def test_modes(tmp_path):

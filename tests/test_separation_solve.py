@@ -1,4 +1,4 @@
-"""Colour separation (solver.separation): printed colours of known coverage mixes separate back
+"""Colour separation (solver.apps.separation): printed colours of known coverage mixes separate back
 to those mixes; out-of-gamut colours are clipped to the closest printable colour (checked
 against a brute-force search of a fine coverage grid) and counted; colour conversions against
 colour-science."""
@@ -6,9 +6,9 @@ colour-science."""
 import numpy as np
 import pytest
 
-from solver.separation import (CoverageGrid, PrintColourModel, SolverSettings, lab_to_srgb8, printed_inks,
+from solver.apps.separation import (CoverageGrid, PrintColourModel, SolverSettings, lab_to_srgb8, printed_inks,
                                separate_image, separate_lab, srgb8_to_lab)
-from solver.separation.solve import jacobian
+from solver.apps.separation.solve import jacobian
 
 MODELS = ("clapper-yule", "murray-davies")
 

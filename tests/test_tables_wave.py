@@ -217,7 +217,7 @@ def test_identical_for_any_number_of_workers_and_on_dask(tmp_path):
 @pytest.mark.slow
 def test_killed_build_resumes_from_finished_units(tmp_path):
     cache = tmp_path / "cache"
-    args = [sys.executable, "-m", "solver.cli", "-v", "build", "--ink", "Y7.5+B7.5", "--particles", "sphere:300",
+    args = [sys.executable, "-m", "solver.apps.cli", "-v", "build", "--ink", "Y7.5+B7.5", "--particles", "sphere:300",
             "--wavelengths", "400:700:20", "--angles", "4", "--grid", "24", "24", "12", "--realizations", "1",
             "--azimuths", "2", "--tier", "full", "--cache", str(cache), "--no-progress", "-o", str(tmp_path / "t.npz")]
     # a session of its own: every process the build starts (pool workers, the resource tracker)

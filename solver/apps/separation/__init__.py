@@ -1,7 +1,7 @@
 """Colour separation and halftoning of images for printing with the project's inks (pure
 NumPy; Pillow for image files): docs/printing.md.
 
-    from solver.separation import PrintSettings, parse_dots, print_image, printed_inks, read_srgb8
+    from solver.apps.separation import PrintSettings, parse_dots, print_image, printed_inks, read_srgb8
     settings = PrintSettings(inks=("R30", "Y30", "B30"), dots=parse_dots("AM:150"))
     result = print_image(read_srgb8("photo.png"), settings, printed_inks(settings.inks))
     result.separation.report.lines(); result.textures          # uint8 per ink, 255 = full ink

@@ -35,9 +35,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..colour import lab_hue_chroma, reflectance_to_srgb8, reflectance_to_xyz, xyz_to_lab
-from ..table.evaluate import directional_albedo
-from ..table.schema import InkTable
+from solver.colour import lab_hue_chroma, reflectance_to_srgb8, reflectance_to_xyz, xyz_to_lab
+from solver.table.evaluate import directional_albedo
+from solver.table.schema import InkTable
 
 #: the paper's paper albedo (docs/design.md §1) and the view of the CSV colour
 PAPER_ALBEDO = 0.9

@@ -1,6 +1,6 @@
 """`ink-tables show`: summary of a table and the paper's Fig. 6 picture.
 
-Fig. 6 (paper §3.2; `solver.figures.fig6`): a vertical strip of the ink on paper under uniform
+Fig. 6 (paper §3.2; `solver.apps.figures.fig6`): a vertical strip of the ink on paper under uniform
 diffuse light, view angle 0° (top) to 60° (bottom), beside a square of the diffuse BRDF colour,
 light angle 0–60° along x and view angle 0–60° along y, drawn with axes, angle labels and a
 caption.  sRGB under D65, scaled so that a white Lambertian of albedo 1 is (255, 255, 255).
@@ -15,10 +15,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ..colour import lab_hue_chroma, reflectance_to_srgb8, reflectance_to_xyz, xyz_to_lab
+from solver.colour import lab_hue_chroma, reflectance_to_srgb8, reflectance_to_xyz, xyz_to_lab
 from ..figures.fig6 import plot_figure6
-from ..table import read_table
-from ..table.evaluate import column_at, directional_albedo
+from solver.table import read_table
+from solver.table.evaluate import column_at, directional_albedo
 from .build import (add_cache_argument, add_request_arguments, cache_from_args, given_request_options,
                     request_from_args)
 from .parsing import DefaultsFormatter, writable_output

@@ -16,10 +16,10 @@ import dataclasses
 
 import numpy as np
 
-from ..colour import reflectance_to_srgb8
-from ..table.evaluate import diffuse_brdf, directional_albedo
-from ..table.interpolation import lerp_weights
-from ..table.schema import InkTable
+from solver.colour import reflectance_to_srgb8
+from solver.table.evaluate import diffuse_brdf, directional_albedo
+from solver.table.interpolation import lerp_weights
+from solver.table.schema import InkTable
 
 MAX_ANGLE_DEG = 60.0
 #: Δφ nodes of the azimuth average of the square

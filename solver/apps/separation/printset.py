@@ -11,9 +11,9 @@ films of molecular layers (the BSDF refuses particle overprints too).
 
 from __future__ import annotations
 
-from ..inks import parse_ink
-from ..printing import PrintedInks, stack_order
-from ..table.request import LAYER_SEPARATOR, table_request
+from solver.inks import parse_ink
+from solver.printing import PrintedInks, stack_order
+from solver.table.request import LAYER_SEPARATOR, table_request
 
 MAX_INKS = 4
 
@@ -47,7 +47,7 @@ def parse_ink_list(text: str) -> tuple[str, ...]:
 
 def ink_requests(specs) -> dict:
     """{subset (0-based, ascending): TableRequest} of every printed primary but bare paper."""
-    from ..printing import all_subsets
+    from solver.printing import all_subsets
 
     return {s: table_request(LAYER_SEPARATOR.join(specs[i] for i in stack_order(s)))
             for s in all_subsets(len(specs)) if s}
@@ -56,8 +56,8 @@ def ink_requests(specs) -> dict:
 def printed_inks(specs, cache=None) -> PrintedInks:
     """PrintedInks of the inks `specs` (printing order) with every overprint, tables from the
     cache (`solver.table.cache.TableCache`; default `TableCache.default()`), built when missing."""
-    from ..table.builder import BuildOptions, get_or_build
-    from ..table.cache import TableCache
+    from solver.table.builder import BuildOptions, get_or_build
+    from solver.table.cache import TableCache
 
     opts = BuildOptions(cache=cache or TableCache.default(), workers=1, progress=False)
     tables = {s: get_or_build(req, opts)[0] for s, req in ink_requests(tuple(specs)).items()}

@@ -13,8 +13,8 @@ from __future__ import annotations
 import warnings
 
 from ..figures import FIGURES, FigureSettings, make_figure, parse_columns, parse_rows
-from ..table.request import ACCURACY, TIERS
-from ..table.request_checks import ignored_on_molecular
+from solver.table.request import ACCURACY, TIERS
+from solver.table.request_checks import ignored_on_molecular
 from .build import add_run_arguments, options_from_args
 from .parsing import PARTICLE_GRAMMAR, DefaultsFormatter, uniform_angles, wavelength_range, writable_outputs
 

@@ -48,9 +48,9 @@ def make_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True)
     for name in SUBCOMMANDS:
         try:
-            module = importlib.import_module(f"solver.cli.{name}")
+            module = importlib.import_module(f"solver.apps.cli.{name}")
         except ModuleNotFoundError as exc:
-            if exc.name == f"solver.cli.{name}":
+            if exc.name == f"solver.apps.cli.{name}":
                 continue          # subcommand not installed in this build
             raise
         module.add_parser(sub)

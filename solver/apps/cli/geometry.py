@@ -9,9 +9,9 @@ exactly through the particles and through the voxel grid the wave solver uses.
 
 from __future__ import annotations
 
-from ..inks import parse_ink
-from ..table.request import WaveSettings
-from ..table.request_checks import refuse_grains_without_pigment
+from solver.inks import parse_ink
+from solver.table.request import WaveSettings
+from solver.table.request_checks import refuse_grains_without_pigment
 from .parsing import PARTICLE_GRAMMAR, DefaultsFormatter, writable_output
 
 
@@ -47,7 +47,7 @@ def progress_bar():
     """A tqdm bar fed by generate's progress(stage, fraction); returns (callback, close)."""
     from tqdm import tqdm
 
-    from ..geometry import GENERATE_STAGES
+    from solver.geometry import GENERATE_STAGES
 
     bar = tqdm(total=len(GENERATE_STAGES), unit="stage", bar_format="{desc} {percentage:3.0f}%|{bar}| {elapsed}")
 
@@ -71,8 +71,8 @@ def generator_seed(args, ink, particles, cell) -> tuple[int, str]:
         raise ValueError(f"--realization {args.realization}: realizations count from 0")
     if args.table_seed is not None and args.table_seed < 0:
         raise ValueError(f"--table-seed {args.table_seed}: the tables' seed is an integer ≥ 0")
-    from ..table.request import table_request
-    from ..table.wave_tier import realization_seed
+    from solver.table.request import table_request
+    from solver.table.wave_tier import realization_seed
 
     kw = {} if args.table_seed is None else {"seed": args.table_seed}
     request = table_request(ink, particles, thickness_nm=args.thickness, cell_nm=cell[0], **kw)
@@ -84,9 +84,9 @@ def generator_seed(args, ink, particles, cell) -> tuple[int, str]:
 
 
 def run(args) -> int:
-    from ..geometry import LayerSpec, generate, parse_particles, voxelize
-    from ..geometry.render import draw_sections
-    from ..geometry.report import summary
+    from solver.geometry import LayerSpec, generate, parse_particles, voxelize
+    from solver.geometry.render import draw_sections
+    from solver.geometry.report import summary
 
     if "/" in args.ink:
         raise ValueError(f"--ink {args.ink}: geometry draws one layer; give one ink of the stack, e.g. "

@@ -19,8 +19,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..geometry.spec import parse_particles
-from ..inks import parse_ink
+from solver.geometry.spec import parse_particles
+from solver.inks import parse_ink
 from .cell_colour import delta_e, saturation
 from .records import CellRecord, run_counts
 

@@ -1,7 +1,7 @@
 """The paper's figures reproduced: Fig. 7 and Fig. 8 (grids of Fig. 6 pictures), Fig. 9
 (transmission spectra), their CSV of cell colours and the findings report (docs/figures.md).
 
-    from solver.figures import FigureSettings, make_figure, parse_rows, parse_columns
+    from solver.apps.figures import FigureSettings, make_figure, parse_rows, parse_columns
     make_figure("fig8", parse_rows(None, "fig8"), parse_columns(None, "fig8"),
                 FigureSettings("preview"), BuildOptions(), "fig8.png", report_path="fig8.md")
 

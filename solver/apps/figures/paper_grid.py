@@ -10,8 +10,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..geometry.spec import MOLECULAR_WORDS, parse_particles
-from ..inks import Ink, parse_ink
+from solver.geometry.spec import MOLECULAR_WORDS, parse_particles
+from solver.inks import Ink, parse_ink
 
 
 class FigureSpecError(ValueError):

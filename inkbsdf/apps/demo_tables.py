@@ -28,7 +28,7 @@ def build_tables(folder, inks=DEMO_INKS, overwrite=True, **request_options) -> d
 
 
 def main(argv=None) -> int:
-    """`python -m inkbsdf.demo_tables OUTDIR`: (re)build the demo tables that are missing,
+    """`python -m inkbsdf.apps.demo_tables OUTDIR`: (re)build the demo tables that are missing,
     unreadable or not the current request's (their cache key differs: other settings, or code
     or data that changed the numbers since) — what `make tables` runs."""
     import sys
@@ -38,7 +38,7 @@ def main(argv=None) -> int:
 
     args = sys.argv[1:] if argv is None else argv
     if len(args) != 1:
-        print("usage: python -m inkbsdf.demo_tables OUTDIR", file=sys.stderr)
+        print("usage: python -m inkbsdf.apps.demo_tables OUTDIR", file=sys.stderr)
         return 2
     folder = Path(args[0])
     for ink in DEMO_INKS:

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..colour import linear_srgb_to_lab, reflectance_to_xyz, xyz_to_lab
+from solver.colour import linear_srgb_to_lab, reflectance_to_xyz, xyz_to_lab
 
 INTENTS = ("relative", "absolute")
 DEFAULT_INTENT = "relative"
@@ -70,7 +70,7 @@ def lab_to_srgb8(lab) -> np.ndarray:
     Lab relative to its paper shows the paper as display white), clipped to the sRGB gamut."""
     from colour import Lab_to_XYZ
 
-    from ..colour import encode_srgb, xyz_to_linear_srgb
+    from solver.colour import encode_srgb, xyz_to_linear_srgb
 
     d65_xy = np.array([0.3127, 0.3290])
     xyz = Lab_to_XYZ(np.asarray(lab, dtype=np.float64), d65_xy)

@@ -7,11 +7,11 @@ import logging
 import time
 from pathlib import Path
 
-from ..table.atomic import atomic_copy
-from ..table.builder import BuildOptions, get_or_build
-from ..table.cache import TableCache
-from ..table.executor import default_workers
-from ..table.request import (ACCURACY, DEFAULT_POLARISATION, DEFAULT_THICKNESS_NM, POLARISATIONS, TIERS,
+from solver.table.atomic import atomic_copy
+from solver.table.builder import BuildOptions, get_or_build
+from solver.table.cache import TableCache
+from solver.table.executor import default_workers
+from solver.table.request import (ACCURACY, DEFAULT_POLARISATION, DEFAULT_THICKNESS_NM, POLARISATIONS, TIERS,
                              TableRequest, WaveSettings, table_request)
 from .parsing import PARTICLE_GRAMMAR, DefaultsFormatter, uniform_angles, wavelength_range, writable_output
 

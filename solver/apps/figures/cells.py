@@ -17,10 +17,10 @@ from dataclasses import dataclass, field
 
 from tqdm import tqdm
 
-from ..geometry.spec import MOLECULAR_WORDS
-from ..table.builder import BuildOptions, get_or_build
-from ..table.request import OPTION, TableRequest, default_grids, table_request
-from ..table.schema import InkTable
+from solver.geometry.spec import MOLECULAR_WORDS
+from solver.table.builder import BuildOptions, get_or_build
+from solver.table.request import OPTION, TableRequest, default_grids, table_request
+from solver.table.schema import InkTable
 from .paper_grid import Column, Row
 
 log = logging.getLogger("inkbsdf.figures")
@@ -113,8 +113,8 @@ def failure_reason(exc: BaseException) -> str:
 
 def across_particles(row: Row, column: Column, settings: FigureSettings) -> tuple[str, float | None]:
     """The particle spec of a cylinders-across-the-layer cell, and the tilt it uses."""
-    from ..geometry import aligned_column_bound, reachable_limit, smallest_tilt_reaching
-    from ..table.wave_tier import layer_spec
+    from solver.geometry import aligned_column_bound, reachable_limit, smallest_tilt_reaching
+    from solver.table.wave_tier import layer_spec
 
     layer = layer_spec(settings.request(row.ink, column.particles))
     tilt = smallest_tilt_reaching(layer, TILTS_DEG)
@@ -149,7 +149,7 @@ def plan_cells(rows, columns, settings: FigureSettings) -> list[CellPlan]:
 def estimates(plans, opts: BuildOptions) -> list:
     """What each cell's build needs (`preflight.Estimate`), None for a cached table or a failed
     plan."""
-    from ..table import preflight
+    from solver.table import preflight
 
     return [None if plan.request is None or opts.cache.table_path(plan.request).exists()
             else preflight.estimate(plan.request, opts.workers) for plan in plans]
@@ -158,7 +158,7 @@ def estimates(plans, opts: BuildOptions) -> list:
 def refuse_what_cannot_fit(figure: str, plans, ests, opts: BuildOptions) -> None:
     """Before any work: PreflightError when some cell's table cannot fit this machine (unless
     --force), naming how many and the first."""
-    from ..table import preflight
+    from solver.table import preflight
 
     if opts.force:
         return

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..table.request import MAX_ANGLES, RequestError
+from solver.table.request import MAX_ANGLES, RequestError
 
 
 #: the particle specs `--particles` takes (build, paper's columns, geometry); a cylinder's

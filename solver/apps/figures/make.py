@@ -12,7 +12,7 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..table.builder import BuildOptions, pooled
+from solver.table.builder import BuildOptions, pooled
 from . import findings
 from .cell_colour import PAPER_ALBEDO, cell_colour, node_errors
 from .cells import (CellResult, FigureSettings, build_cells, estimates, failure_reason, plan_cells,

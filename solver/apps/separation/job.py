@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..printing import COVERAGE_MODELS, PrintedInks
+from solver.printing import COVERAGE_MODELS, PrintedInks
 from .colour_space import DEFAULT_INTENT, check_intent
 from .halftone import Dots, TexelGrid, halftone_ink, print_size
 from .image import write_grey_png

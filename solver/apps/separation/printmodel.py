@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..printing import DEFAULT_COVERAGE_MODEL, PrintedInks, ReflectancePredictor
+from solver.printing import DEFAULT_COVERAGE_MODEL, PrintedInks, ReflectancePredictor
 from .colour_space import DEFAULT_INTENT, check_intent, lab_from_xyz, xyz_matrix
 
 DEFAULT_PAPER = 0.9
