@@ -11,7 +11,7 @@ import sys
 import time
 
 STUDIES = ("geometry", "wave", "render", "tables", "findings", "polarisation", "printing", "figures",
-           "polarized", "separation", "vector")
+           "polarized", "separation", "vector", "convergence")
 
 
 def main(argv: list[str]) -> int:

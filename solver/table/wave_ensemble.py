@@ -66,7 +66,7 @@ def reduce_units(request: TableRequest, units: list[list[dict]], meta: dict) -> 
     # grazing node (analytic): mirror beam, nothing transmitted or scattered
     for key in ("R_spec", "Rbar", "Rbar_below", "Rbar_s", "Rbar_p"):
         (cols if key in cols else split)[key][:, ~solved] = 1.0
-    worst, worst_exact, apps, seconds = 0.0, 0.0, [], 0.0
+    worst, worst_exact, apps, seconds, retries = 0.0, 0.0, [], 0.0, 0
     for li in range(nl):
         get = lambda key: np.stack([units[r][li][key] for r in range(len(units))])   # [N, σ, sample, …]
         pol = units[0][li]["polarisation"]
@@ -97,6 +97,7 @@ def reduce_units(request: TableRequest, units: list[list[dict]], meta: dict) -> 
         worst_exact = max(worst_exact, float(np.max(np.abs(get("energy_error_exact")))))
         apps.append(get("applications"))
         seconds += float(get("seconds").sum())
+        retries += int(np.count_nonzero(get("retries")))
     R = symmetrize_reciprocal(isotropize_normal(R, polar, dphi), polar, dphi)
     meta = dict(meta)
     sampled = len(units) > 1                 # one realization: the standard error is unknown
@@ -108,7 +109,8 @@ def reduce_units(request: TableRequest, units: list[list[dict]], meta: dict) -> 
     })
     meta.setdefault("solver_stats", {}).update({
         "applications_mean": float(np.mean(apps)), "applications_max": int(np.max(apps)),
-        "solves": int(sum(a.size for a in apps)), "solve_seconds_total": seconds})
+        "solves": int(sum(a.size for a in apps)), "solve_seconds_total": seconds,
+        "solves_retried": retries})
     extra = {}
     if len(pols) == 2:
         extra = dict(split, r_s=to_mitsuba_convention(amp["s"]), r_p=to_mitsuba_convention(amp["p"]))

@@ -20,6 +20,8 @@ Sampling (docs/tables.md):
   each realization's mean equal to it), also the TM face permittivity ε_f.
 - the scheme-exact energy identity (quadrature of ∫ Im ε |u|²) is evaluated on one solve per
   unit; every other solve closes its energy from the true residual (solver.wave).
+- every full solve converges or the unit is refused: a solve short of its tolerance climbs the
+  ladder of stronger settings (retry.py), and `retries` counts the rungs climbed per [σ, sample].
 """
 
 from __future__ import annotations
@@ -36,6 +38,7 @@ from ..inks import molecular_eps
 from ..wave import Cell, prepare, solve_prepared
 from .orders_to_brdf import fold_dphi, spread_orders
 from .request import TableRequest
+from .retry import converged_solve
 
 GOLDEN = 0.5 * (math.sqrt(5.0) - 1.0)
 TE, TM = 0, 1
@@ -139,6 +142,20 @@ class SolveUnit:
     threads: int | None = None          # FFT threads (None: the solver's default)
 
 
+def _operators(cell: Cell, wl: float, kx0: float, ky0: float, eps_nominal: complex,
+               polarisation: str, threads: int | None):
+    """make_op(dtype) → the prepared operator of one incidence in that dtype, prepared once per
+    dtype (both sides and every rung of the retry ladder share it)."""
+    ops = {}
+
+    def make_op(dtype=np.complex64):
+        if dtype not in ops:
+            ops[dtype] = prepare(cell, wl, kx0, ky0, eps_background=eps_nominal,
+                                 polarisation=polarisation, workers=threads, dtype=dtype)
+        return ops[dtype]
+    return make_op
+
+
 def solve_unit(unit: SolveUnit) -> dict:
     """All solves of one realization at one wavelength → arrays indexed [σ, sample]."""
     req, vox = unit.request, unit.voxels
@@ -151,26 +168,33 @@ def solve_unit(unit: SolveUnit) -> dict:
     polar, dphi = np.asarray(req.grids.sigma_rad), req.grids.dphi_rad
     shape = (sig.size, len(todo))
     out = {k: np.zeros(shape) for k in ("Rbar", "Tbar", "A", "energy_error", "applications",
-                                         "seconds", "Rbar_below")}
+                                         "seconds", "Rbar_below", "retries")}
     out["alpha00"] = np.zeros(shape, complex)
     out["beta00"] = np.zeros(shape, complex)
     out["R"] = np.zeros(shape + (polar.size, dphi.size))
     out["polarisation"] = np.array([p for _, p in todo])
     out["energy_error_exact"] = np.zeros(1)
-    kw = dict(tol=req.wave.solver_tol, method="born" if unit.method == "born" else "auto")
-    if unit.method == "born":              # first order by design: not a convergence failure
-        kw.update(maxiter=1, on_fail="ignore")
     k0 = 2.0 * np.pi / wl
     for i, s in enumerate(sig):
         for k, (j, pol) in enumerate(todo):
             phi = phis[j]
             kx0, ky0 = k0 * np.sin(s) * np.cos(phi), k0 * np.sin(s) * np.sin(phi)
-            op = prepare(cell, wl, kx0, ky0, eps_background=eps_nominal, polarisation=("te", "tm")[pol],
-                         workers=unit.threads)
+            make_op = _operators(cell, wl, kx0, ky0, eps_nominal, ("te", "tm")[pol], unit.threads)
             exact = i == 0 and k == 0 and unit.method != "born"   # the sampled exact identity
             for from_below in ((False, True) if below else (False,)):
-                res = solve_prepared(op, from_below, exact_energy=exact and not from_below, **kw)
-                out["applications"][i, k] += res.applications
+                if unit.method == "born":      # first order by design: truncated on purpose
+                    res = solve_prepared(make_op(), from_below, tol=req.wave.solver_tol,
+                                         method="born", maxiter=1, on_fail="truncate")
+                    apps = res.applications
+                else:
+                    where = (f"{req.describe()}, realization {unit.realization}, λ {wl:g} nm, "
+                             f"σ {np.degrees(s):.4g}°, azimuth {np.degrees(phi):.4g}°, "
+                             f"{('TE', 'TM')[pol]}, from {'below' if from_below else 'above'}")
+                    res, rungs, apps = converged_solve(make_op, from_below, tol=req.wave.solver_tol,
+                                                       where=where,
+                                                       exact_energy=exact and not from_below)
+                    out["retries"][i, k] += rungs
+                out["applications"][i, k] += apps
                 out["seconds"][i, k] += res.seconds
                 if from_below:
                     out["Rbar_below"][i, k] = res.R

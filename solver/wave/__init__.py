@@ -11,17 +11,16 @@ docs/design.md §1, §4.
     op = with_contrast(bg, cell)                                           # many realizations
 """
 from .faces import DEFAULT_TM_FACES, PRESETS as TM_FACE_PRESETS, TMFaces
-from .krylov import (BornDivergenceError, ConvergenceError, ConvergenceWarning,
-                     WaveSolverError)
+from .krylov import BornDivergenceError, ConvergenceError, WaveSolverError
 from .operator import (DEFAULT_MIN_LOSS, Background, LayerOperator, prepare,
                        prepare_background, with_contrast)
 from .orders import OrderSet
-from .solve import (DEFAULT_TOL, ENERGY_BOUND, DiffractionResult, EnergyClosureError, EnergyWarning, solve,
-                    solve_prepared)
+from .solve import (DEFAULT_TOL, ENERGY_BOUND, ON_FAIL, DiffractionResult, EnergyClosureError,
+                    memory_restart, solve, solve_prepared)
 from .types import Cell, Incidence, bloch_vector
 
 __all__ = ["Cell", "Incidence", "DiffractionResult", "OrderSet", "LayerOperator", "Background",
            "prepare", "prepare_background", "with_contrast", "solve", "solve_prepared",
-           "bloch_vector", "BornDivergenceError", "ConvergenceError", "ConvergenceWarning",
-           "WaveSolverError", "EnergyWarning", "EnergyClosureError", "DEFAULT_MIN_LOSS",
+           "bloch_vector", "BornDivergenceError", "ConvergenceError",
+           "WaveSolverError", "EnergyClosureError", "ON_FAIL", "memory_restart", "DEFAULT_MIN_LOSS",
            "ENERGY_BOUND", "DEFAULT_TOL", "TMFaces", "TM_FACE_PRESETS", "DEFAULT_TM_FACES"]

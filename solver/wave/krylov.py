@@ -24,7 +24,14 @@ class WaveSolverError(RuntimeError):
 
 
 class ConvergenceError(WaveSolverError):
-    """The iteration did not reach the tolerance (raised when on_fail='raise')."""
+    """The iteration did not reach the tolerance: its iterate is not a result (raised unless
+    the caller asked for a truncated iteration, on_fail='truncate').  method, applications,
+    residual (the true relative residual reached) and tol say how far it got."""
+
+    def __init__(self, message: str, *, method: str = "", applications: int = 0,
+                 residual: float = float("nan"), tol: float = float("nan")):
+        super().__init__(message)
+        self.method, self.applications, self.residual, self.tol = method, applications, residual, tol
 
 
 class BornDivergenceError(WaveSolverError):
@@ -35,10 +42,6 @@ class BornDivergenceError(WaveSolverError):
         super().__init__(message)
         self.growth_factor = growth_factor
         self.residuals = residuals
-
-
-class ConvergenceWarning(RuntimeWarning):
-    """The iteration stopped before reaching the tolerance; the message says how far it got."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -158,9 +161,16 @@ def gmres(scatter: Apply, b: np.ndarray, *, tol: float, maxiter: int, restart: i
                          r.reshape(shape))
 
 
+#: BiCGStab gives up when its residual has not fallen below 0.99× its best for this many
+#: iterations, or has grown beyond BLOWUP× its best (its residual is not monotone: a stagnating
+#: or exploding run would otherwise spend every application it is allowed)
+STAGNATION_ITERATIONS, BLOWUP = 100, 1e4
+
+
 def bicgstab(apply: Apply, b: np.ndarray, *, tol: float, maxiter: int,
              x0: np.ndarray | None = None, callback: Callback = None) -> KrylovOutcome:
-    """BiCGStab (van der Vorst); two applications per iteration, explicit residual each step."""
+    """BiCGStab (van der Vorst); two applications per iteration, explicit residual each step;
+    stops early on stagnation or blow-up (STAGNATION_ITERATIONS, BLOWUP)."""
     shape = b.shape
     bv = b.ravel()
     bnorm = norm(bv) or 1.0
@@ -173,6 +183,7 @@ def bicgstab(apply: Apply, b: np.ndarray, *, tol: float, maxiter: int,
     v = np.zeros_like(bv)
     p = np.zeros_like(bv)
     rel = norm(r) / bnorm
+    best, best_at = rel, 0
     while rel > tol and apps + 3 <= maxiter:   # 2 per iteration + the final true residual
         rho_new = dot(rhat, r)
         if abs(rho_new) < 1e-30 * bnorm ** 2:  # breakdown: restart the shadow residual
@@ -197,7 +208,10 @@ def bicgstab(apply: Apply, b: np.ndarray, *, tol: float, maxiter: int,
         history.append(rel)
         if callback is not None:
             callback(apps, rel)
-        if not math.isfinite(rel):
+        if rel < 0.99 * best:
+            best, best_at = rel, len(history)
+        if (not math.isfinite(rel) or rel > BLOWUP * best
+                or len(history) - best_at >= STAGNATION_ITERATIONS):
             break
     r = bv - apply(x.reshape(shape), None).ravel()
     apps += 1

@@ -3,7 +3,6 @@ from __future__ import annotations
 
 import math
 import time
-import warnings
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -12,8 +11,8 @@ from .faces import DEFAULT_TM_FACES, TMFaces, preset_name
 from .energy import absorption, closure, midpoint_absorption
 from .fftback import DEFAULT_FFT
 from .kernel1d import background_amplitudes, face_profiles, harmonic_green
-from .krylov import (Callback, ConvergenceError, ConvergenceWarning, KrylovOutcome,
-                     WaveSolverError, bicgstab, born, gmres)
+from .krylov import (Callback, ConvergenceError, KrylovOutcome, WaveSolverError, bicgstab,
+                     born, gmres)
 from .operator import (DEFAULT_MIN_LOSS, Background, LayerOperator, Workspace, from_zmajor,
                        prepare, scatter_zmajor, system_zmajor, to_zmajor)
 from .orders import OrderSet, diffraction_orders
@@ -21,9 +20,14 @@ from .types import Cell, Incidence, bloch_vector
 from .vecops import one_blas_thread
 
 METHODS = ("auto", "gmres", "bicgstab", "born")
+#: what a solve does when it falls short: 'raise' (the default: a non-converged iterate, or a
+#: converged one whose energy balance is implausible, is not a result) or 'truncate' (the
+#: caller asked for a truncated iteration, e.g. a first-order Born series: the iterate is
+#: returned, and `converged`, `residual` and `energy_error` say how far it got)
+ON_FAIL = ("raise", "truncate")
 #: upper bound on the memory of the GMRES basis (bytes); the restart length adapts to it.
 GMRES_BASIS_BYTES = 1.0e9
-#: default bound on |R + T + A − 1| (and on R, T, A leaving [0, 1]) above which a solve warns,
+#: default bound on |R + T + A − 1| (and on R, T, A leaving [0, 1]) above which a solve raises,
 #: whatever its tolerance: 1e-3 is the resolution the tables need (docs/wave_solver.md).
 ENERGY_BOUND = 1e-3
 #: default relative residual: on the reference geometry (64×64×32; k = 0, 0.2, 1.1; σ 25°,
@@ -33,12 +37,13 @@ ENERGY_BOUND = 1e-3
 DEFAULT_TOL = 1e-3
 
 
-class EnergyWarning(RuntimeWarning):
-    """The energy closure R + T + A − 1 (or R, T, A outside [0, 1]) exceeds the bound."""
-
-
 class EnergyClosureError(WaveSolverError):
-    """As EnergyWarning, raised when on_fail='raise'."""
+    """A converged solve whose energy closure R + T + A − 1 (or R, T, A outside [0, 1])
+    exceeds the bound: its tolerance was too loose for a result.  problem: what is wrong."""
+
+    def __init__(self, message: str, problem: str = ""):
+        super().__init__(message)
+        self.problem = problem
 
 
 @dataclass(frozen=True, eq=False)
@@ -88,10 +93,16 @@ class DiffractionResult:
     tm_faces: str | None = None
 
 
-def _gmres_restart(b: np.ndarray) -> int:
-    """Restart length that keeps the GMRES basis under GMRES_BASIS_BYTES (at most 60)."""
-    per_vec = b.size * b.dtype.itemsize
-    return int(min(60, GMRES_BASIS_BYTES // per_vec - 1))
+def memory_restart(op: "LayerOperator | Background") -> int:
+    """The longest GMRES restart whose basis fits GMRES_BASIS_BYTES for this operator (its
+    unknowns and dtype)."""
+    per_vec = int(np.prod(op.unknown_shape)) * np.dtype(op.dtype).itemsize
+    return int(GMRES_BASIS_BYTES // per_vec - 1)
+
+
+def _gmres_restart(op: LayerOperator) -> int:
+    """The default restart length: the memory bound, at most 60 (docs/wave_solver.md)."""
+    return min(60, memory_restart(op))
 
 
 def _run(op: LayerOperator, b: np.ndarray, method: str, tol: float, maxiter: int,
@@ -100,19 +111,30 @@ def _run(op: LayerOperator, b: np.ndarray, method: str, tol: float, maxiter: int
     x0 is in the public layout (nb, nx, ny, nz), the returned solution and residual are
     z-major."""
     if method == "auto":  # GMRES unless its basis would not fit in memory (docs/wave_solver.md)
-        method = "gmres" if (restart or _gmres_restart(b)) >= 10 else "bicgstab"
+        method = "gmres" if (restart or _gmres_restart(op)) >= 10 else "bicgstab"
     ws = Workspace(op)
     kw = dict(tol=tol, maxiter=maxiter, callback=callback,
               x0=None if x0 is None else to_zmajor(np.asarray(x0, dtype=op.dtype)))
     try:
         if method == "gmres":
-            m = max(1, restart or _gmres_restart(b))
+            m = max(1, restart or _gmres_restart(op))
             return gmres(lambda x, o: scatter_zmajor(op, x, ws, o), b, restart=m, **kw)
         if method == "bicgstab":
             return bicgstab(lambda x, o: system_zmajor(op, x, ws, o), b, **kw)
         return born(lambda x, o: scatter_zmajor(op, x, ws, o), b, **kw)
     finally:
         ws.release()
+
+
+def source(op: LayerOperator, from_below: bool = False) -> np.ndarray:
+    """The right-hand side w_b of w − G V w = w_b: the moments of the background (Airy) field
+    of a unit plane wave from above or below, (nb, nx, ny, nz) in the operator's dtype (the
+    00 harmonic only: laterally uniform)."""
+    green00 = harmonic_green(op.green, (slice(0, 1), slice(0, 1)))
+    coef, _, _ = background_amplitudes(green00, from_below)
+    prof = face_profiles(green00)[1 if from_below else 0]
+    return np.broadcast_to((coef[0, 0] * prof[:, 0, 0])[:, None, None, :].astype(op.dtype),
+                           op.unknown_shape).copy()
 
 
 def _check_energy(res: DiffractionResult, bound: float) -> str | None:
@@ -129,7 +151,7 @@ def _check_energy(res: DiffractionResult, bound: float) -> str | None:
 
 def solve_prepared(op: LayerOperator, from_below: bool = False, *, tol: float = DEFAULT_TOL,
                    method: str = "auto", maxiter: int = 500, restart: int | None = None,
-                   on_fail: str = "warn", return_field: bool = False,
+                   on_fail: str = "raise", return_field: bool = False,
                    exact_energy: bool = False, energy_bound: float = ENERGY_BOUND,
                    x0: np.ndarray | None = None, callback: Callback = None
                    ) -> DiffractionResult:
@@ -138,11 +160,11 @@ def solve_prepared(op: LayerOperator, from_below: bool = False, *, tol: float = 
     tol: relative residual ‖b − A·w‖/‖b‖ at which the iteration stops.  method: 'auto'
     (= 'gmres', see docs/wave_solver.md), 'gmres', 'bicgstab' or 'born' (raises
     BornDivergenceError when the series diverges).  maxiter: operator applications.
-    on_fail: 'warn' (ConvergenceWarning when tol is not reached, EnergyWarning when
-    |R + T + A − 1| > energy_bound or R, T, A leave [0, 1] by more than it, whatever tol),
-    'raise' (ConvergenceError / EnergyClosureError) or 'ignore' (only where a truncated
-    iteration is the intent, e.g. first-order Born: `converged`, `residual` and
-    `energy_error` still say how far it got).
+    on_fail: 'raise' (the default: ConvergenceError when tol is not reached — the iterate is
+    not a result —, EnergyClosureError when a converged solve has |R + T + A − 1| >
+    energy_bound or R, T, A leaving [0, 1] by more than it) or 'truncate' (only where a
+    truncated iteration is the intent, e.g. first-order Born: the iterate is returned,
+    `converged`, `residual` and `energy_error` say how far it got).
     exact_energy: A by quadrature of ∫ Im ε |u|² (≈ 3 applications' worth) instead of from the
     residual (one inner product); see DiffractionResult.energy_check.
     x0: initial guess, e.g. `solution` of a solve at a neighbouring wavelength or incidence
@@ -151,8 +173,9 @@ def solve_prepared(op: LayerOperator, from_below: bool = False, *, tol: float = 
     """
     if method not in METHODS:
         raise ValueError(f"method must be one of {METHODS}, got {method!r}")
-    if on_fail not in ("warn", "raise", "ignore"):
-        raise ValueError("on_fail must be 'warn', 'raise' or 'ignore'")
+    if on_fail not in ON_FAIL:
+        raise ValueError(f"on_fail must be one of {ON_FAIL} (a non-converged solve is never a "
+                         f"result with a warning), got {on_fail!r}")
     if not tol > 0:
         raise ValueError("tol must be positive")
     if not energy_bound > 0:
@@ -162,11 +185,7 @@ def solve_prepared(op: LayerOperator, from_below: bool = False, *, tol: float = 
                          f"previous result's `solution` on the same grid), got {np.shape(x0)}")
     t0 = time.perf_counter()
     nx, ny, nz = op.shape
-    green00 = harmonic_green(op.green, (slice(0, 1), slice(0, 1)))   # b: the 00 harmonic
-    coef, _, _ = background_amplitudes(green00, from_below)
-    prof = face_profiles(green00)[1 if from_below else 0]
-    b = np.broadcast_to((coef[0, 0] * prof[:, 0, 0])[:, :, None, None].astype(op.dtype),
-                        op.zmajor_shape).copy()
+    b = to_zmajor(source(op, from_below))
     with one_blas_thread():     # vector work on one BLAS thread (vecops.py), not only Krylov's
         out = _run(op, b, method, tol, maxiter, restart, x0, callback)
         f_z = op.contrast_zmajor * out.x                          # z-major, as out.x
@@ -207,26 +226,24 @@ def solve_prepared(op: LayerOperator, from_below: bool = False, *, tol: float = 
     where = (f"(λ = {op.wavelength_nm:g} nm, Bloch vector ({op.kx0:.6g}, {op.ky0:.6g}) 1/nm, "
              f"from {'below' if from_below else 'above'}, {op.polarisation.upper()}, grid "
              f"{op.shape})")
+    if on_fail == "truncate":
+        return res
     if not out.converged:
-        msg = (f"wave solver ({out.method}) stopped after {out.applications} operator "
-               f"applications at relative residual {out.true_residual:.3g} > tol {tol:.3g} "
-               f"{where}; energy error R+T+A−1 = {res.energy_error:.2g}")
-        if on_fail == "raise":
-            raise ConvergenceError(msg)
-        if on_fail == "warn":
-            warnings.warn(msg, ConvergenceWarning, stacklevel=2)
-    problem = _check_energy(res, energy_bound) if out.converged else None
-    if problem is not None and on_fail != "ignore":
-        msg = (f"wave solver ({out.method}, tol {tol:.3g}, residual {out.true_residual:.3g}, "
-               f"{out.applications} applications): {problem} {where}; lower tol")
-        if on_fail == "raise":
-            raise EnergyClosureError(msg)
-        warnings.warn(msg, EnergyWarning, stacklevel=2)
+        raise ConvergenceError(
+            f"wave solver ({out.method}) stopped after {out.applications} operator applications "
+            f"at relative residual {out.true_residual:.3g} > tol {tol:.3g} {where}; energy error "
+            f"R+T+A−1 = {res.energy_error:.2g}", method=out.method,
+            applications=out.applications, residual=out.true_residual, tol=tol)
+    problem = _check_energy(res, energy_bound)
+    if problem is not None:
+        raise EnergyClosureError(
+            f"wave solver ({out.method}, tol {tol:.3g}, residual {out.true_residual:.3g}, "
+            f"{out.applications} applications): {problem} {where}; lower tol", problem)
     return res
 
 
 def solve(cell: Cell, incidence: Incidence, *, tol: float = DEFAULT_TOL, method: str = "auto",
-          maxiter: int = 500, restart: int | None = None, on_fail: str = "warn",
+          maxiter: int = 500, restart: int | None = None, on_fail: str = "raise",
           return_field: bool = False, exact_energy: bool = False,
           energy_bound: float = ENERGY_BOUND, x0: np.ndarray | None = None,
           callback: Callback = None, eps_background: complex | None = None,
@@ -258,5 +275,5 @@ def solve(cell: Cell, incidence: Incidence, *, tol: float = DEFAULT_TOL, method:
     return replace(res, seconds=time.perf_counter() - t0)
 
 
-__all__ = ["DiffractionResult", "solve", "solve_prepared", "EnergyWarning",
-           "EnergyClosureError", "ENERGY_BOUND", "DEFAULT_TOL"]
+__all__ = ["DiffractionResult", "solve", "solve_prepared", "EnergyClosureError", "ENERGY_BOUND",
+           "DEFAULT_TOL", "ON_FAIL", "memory_restart", "source"]

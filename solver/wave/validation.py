@@ -6,11 +6,14 @@ _mie.py, _energy.py, _hard.py) and that benchmarks/bench_wave.py tabulates under
 - slab_error: 1000-nm slab, λ = 500, σ = 0.4: |Δr| + |Δt| against Airy (z-discretisation);
 - grating_errors: lamellar grating against TE RCWA (lateral discretisation);
 - mie_relative_errors: one weak sphere per cell against scalar Mie single scattering;
-- random_layer: a cell of random (overlapping) spheres in binder, voxelised by supersampling.
+- random_layer: a cell of random (overlapping) spheres in binder, voxelised by supersampling;
+- hard_cells: random hard cells (contrast, load, angle, λ, polarisation) for the convergence
+  sweep (benchmarks/bench_convergence.py, tests/test_wave_retry.py).
 """
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -128,3 +131,48 @@ def random_layer(eta_particle, fraction=0.2, diameter=200.0, seed=7, shape=(24, 
     centres = random_spheres(rng, n, LAYER_PERIOD, (0.0, thickness), diameter / 2)
     frac = sphere_fractions(centres, diameter / 2, LAYER_PERIOD, (0.0, thickness), shape, ss=3)
     return Cell(E_BINDER + (eta_particle ** 2 - E_BINDER) * frac, LAYER_PERIOD, (0.0, thickness))
+
+
+@dataclass(frozen=True)
+class HardCell:
+    """One case of the convergence sweep: a random layer and one incidence on it."""
+
+    index: int
+    cell: Cell
+    incidence: Incidence
+    polarisation: str
+    eta: complex
+    fill: float
+
+    def describe(self) -> str:
+        return (f"#{self.index}: η {self.eta.real:.2f}{self.eta.imag:+.2f}i, fill {self.fill:.0%}, "
+                f"λ {self.incidence.wavelength_nm:.0f} nm, σ {math.degrees(self.incidence.polar_rad):.0f}°, "
+                f"{self.polarisation.upper()}")
+
+
+def hard_cells(count: int, shape=(16, 16, 8), seed: int = 22):
+    """`count` random hard cases (a generator): spheres of 200 nm with index n ∈ [1.0, 3.5],
+    k ∈ {0 (half of them), [0, 1.5]}, filling 5–50 % of a 1000 × 1000 × 500-nm cell of binder
+    (random_layer), λ 380–780 nm, σ 0–85°, TE or TM."""
+    rng = np.random.default_rng(seed)
+    for i in range(count):
+        eta = complex(rng.uniform(1.0, 3.5), 0.0 if rng.random() < 0.5 else rng.uniform(0.0, 1.5))
+        fill = float(rng.uniform(0.05, 0.5))
+        cell = random_layer(eta, fraction=fill, shape=shape, seed=int(rng.integers(1 << 30)))
+        inc = Incidence(float(rng.uniform(380.0, 780.0)), math.radians(float(rng.uniform(0.0, 85.0))),
+                        float(rng.uniform(0.0, math.pi / 2)))
+        yield HardCell(i, cell, inc, ("te", "tm")[int(rng.integers(2))], eta, fill)
+
+
+def explicit_residual(case: HardCell, res) -> float:
+    """‖w_b − (I − GV)·w‖/‖w_b‖ of a result's solution, recomputed in complex128 by one
+    explicit application of a freshly prepared operator (not the solver's own estimate)."""
+    from .operator import apply_system, prepare
+    from .solve import source
+    from .types import bloch_vector
+
+    op = prepare(case.cell, case.incidence.wavelength_nm, *bloch_vector(case.cell, case.incidence),
+                 polarisation=case.polarisation, dtype=np.complex128)
+    b = source(op, case.incidence.from_below)
+    r = b - apply_system(op, np.asarray(res.solution, dtype=np.complex128))
+    return float(np.linalg.norm(r) / np.linalg.norm(b))

@@ -107,6 +107,12 @@ def _main(argv: list[str] | None) -> int:
         print(f"{prefix}: error: ran out of memory ({first}); use coarser settings (--grid, --wavelengths, "
               "--angles) or fewer --workers", file=sys.stderr)
         return 1
+    except RuntimeError as exc:                 # a table refused: no converged solve (the reason)
+        from solver.wave import WaveSolverError      # (imported here: the CLI starts without NumPy)
+        if not isinstance(exc, WaveSolverError):
+            raise
+        print(f"{prefix}: error: {exc}", file=sys.stderr)
+        return 1
     except ValueError as exc:                   # bad input: requests, specs, tables, the cache
         print(f"{prefix}: error: {exc}", file=sys.stderr)
         return 2
