@@ -31,10 +31,9 @@ energy only through Im ε_f.
 from __future__ import annotations
 
 import numpy as np
-import scipy.fft as sfft
 
 from .kernel1d import background_amplitudes, face_profiles, harmonic_green, point_self_terms
-from .operator import LayerOperator, to_zmajor
+from .operator import LayerOperator
 from .orders import OrderSet
 from .vecops import dot
 from .zbasis import single_integrals
@@ -85,7 +84,7 @@ def closure(op: LayerOperator, r: np.ndarray, f: np.ndarray, big_r: float, big_t
 def slab_field_energy(op: LayerOperator, w_b_coef: complex, f: np.ndarray, from_below: bool,
                       n_gauss: int = GAUSS_POINTS) -> float:
     """∫_slab |u|² dV (nm³) of the scheme's continuous field (unit incident amplitude), in
-    complex128.
+    complex128, for the z-major source moments f (nb, nz, nx, ny) of the operator's backend.
 
     The scattered field at z = k·h + s inside cell k is, per lateral harmonic, with the
     z-recursion sums (P, Q) of the operator (zkernels.py) for the source moments f:
@@ -96,27 +95,28 @@ def slab_field_energy(op: LayerOperator, w_b_coef: complex, f: np.ndarray, from_
     nx, ny, nz = op.shape
     sg, size = op.green, nx * ny
     h = sg.h_nm
+    arrays = op.fft                                   # the operator's array backend (fftback.py)
     xg, wg = np.polynomial.legendre.leggauss(n_gauss)
-    fz = to_zmajor(np.asarray(f, dtype=np.complex128))
-    fh = sfft.fft2(fz, axes=(-2, -1), workers=op.workers, overwrite_x=True)
-    fh = fh.reshape(sg.nb, nz, size)
+    fz = arrays.empty(f.shape, np.complex128)
+    np.copyto(fz, f)                                  # z-major source moments, complex128
+    fh = arrays.lateral(fz).reshape(sg.nb, nz, size)
     tab = sg.exp_table()
-    work = ZWork(nz, size, np.complex128)
-    p, q = z_sums(z_kernels(sg, np.complex128), fh, work)
+    work = ZWork(nz, size, np.complex128, arrays)
+    p, q = z_sums(z_kernels(sg, np.complex128, backend=arrays), fh, work)
     amp = (sg.prefactor * h * single_integrals(1j * sg.kappa * h, 1)[0]).reshape(size)
     kappa = sg.kappa.reshape(size)
-    u = np.empty((nz, size), dtype=complex)
+    u = arrays.empty((nz, size), np.complex128)
     sg00 = harmonic_green(sg, (slice(0, 1), slice(0, 1)))
     total = 0.0
     for xq, wq in zip(xg, wg):
         s = 0.5 * h * (xq + 1)
-        np.multiply(amp * np.exp(1j * kappa * s), p, out=u)
-        u += (amp * np.exp(1j * kappa * (h - s))) * q
+        np.multiply(arrays.asarray(amp * np.exp(1j * kappa * s)), p, out=u)
+        u += arrays.asarray(amp * np.exp(1j * kappa * (h - s))) * q
         for moment, term in zip(fh, point_self_terms(sg, s, tab)):
-            u += term.reshape(size) * moment
+            u += arrays.asarray(term.reshape(size)) * moment
         ptop, pbot = face_profiles(sg00, s)
         prof = pbot if from_below else ptop
-        u[:, 0] += size * w_b_coef * prof[0, 0, 0]        # the background wave (00 harmonic)
+        u[:, 0] += arrays.asarray(size * w_b_coef * prof[0, 0, 0])   # the background wave (00)
         total += 0.5 * wq * h * float(np.vdot(u, u).real)
     work.release()
     lx, ly = op.cell.period_nm
@@ -140,7 +140,8 @@ def absorption(op: LayerOperator, w: np.ndarray, f: np.ndarray, from_below: bool
                kz_inc: float, refl: OrderSet, trans: OrderSet) -> float:
     """A by quadrature of ∫|u|² (independent of R and T), as a fraction of the incident power.
 
-    w: the solved periodic field (moments, (nb, nx, ny, nz)); f = V·w.
+    w: the solved periodic field (moments, (nb, nx, ny, nz), on the host); f = V·w (z-major,
+    (nb, nz, nx, ny), an array of the operator's backend).
     """
     lx, ly = op.cell.period_nm
     eb = op.eps_background

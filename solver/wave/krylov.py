@@ -11,6 +11,7 @@ from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
+from .fftback import FFT, HOST
 from .vecops import Basis, dot, norm
 
 #: apply(x, out): A·x written into out (None: a new array), returned
@@ -61,7 +62,8 @@ class KrylovOutcome:
 
 
 def gmres(scatter: Apply, b: np.ndarray, *, tol: float, maxiter: int, restart: int = 60,
-          x0: np.ndarray | None = None, callback: Callback = None) -> KrylovOutcome:
+          x0: np.ndarray | None = None, callback: Callback = None,
+          backend: FFT = HOST) -> KrylovOutcome:
     """Restarted GMRES(restart) for x − K·x = b, classical Gram–Schmidt with selective
     reorthogonalisation.
 
@@ -80,12 +82,13 @@ def gmres(scatter: Apply, b: np.ndarray, *, tol: float, maxiter: int, restart: i
     The residual b − (I − K)·x at the end of a cycle is V_{m+1}·(β e_1 − H̄ y), formed with the
     update x += V_m y in one pass over the basis instead of one more application: the Arnoldi
     relation K V_m = V_{m+1} H̄_K holds by construction to rounding, so it equals the explicit
-    residual to rounding (test: ≤ 1e-5·‖b‖ in complex64).
+    residual to rounding (test: ≤ 1e-5·‖b‖ in complex64).  backend: where b, x0 and the basis
+    live (fftback.py).
     """
     shape, dt = b.shape, b.dtype
     bv = b.ravel()
     bnorm = norm(bv) or 1.0
-    x = np.zeros_like(bv) if x0 is None else np.asarray(x0).ravel().astype(dt, copy=True)
+    x = np.zeros_like(bv) if x0 is None else x0.ravel().astype(dt, copy=True)
     apps, history = 0, []
     if x0 is None:
         r = bv.copy()
@@ -99,7 +102,7 @@ def gmres(scatter: Apply, b: np.ndarray, *, tol: float, maxiter: int, restart: i
     rel = norm(r) / bnorm
     while rel > tol and apps < maxiter:
         m = min(restart, maxiter - apps)
-        basis = Basis(m + 1, bv.size, dt)
+        basis = Basis(m + 1, bv.size, dt, backend)
         hess = np.zeros((m + 1, m), dtype=complex)
         unrotated = np.zeros((m + 1, m), dtype=complex)
         cs, sn = np.zeros(m, dtype=complex), np.zeros(m, dtype=complex)

@@ -24,7 +24,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.fft as sfft
 
 from .faces import (DEFAULT_TM_FACES, TMFaces, face_coefficients, harmonic_forms,
                     parse_tm_faces)
@@ -189,7 +188,8 @@ def prepare_background(shape: tuple[int, int, int], period_nm: tuple[float, floa
     z-cells; 0: cell averages only, O(h²)).  dtype: complex64 (default) or complex128 for the
     operator arrays and Krylov vectors (kernels are computed in complex128).  workers: FFT
     threads (default: all cores, at most 8; one per process is best in a process pool).
-    fft: 'scipy' (default), 'fftw' (pyFFTW, optional) or 'auto' (fftback.py).
+    fft: the array backend (fftback.py): 'auto' (default: FFTW where pyFFTW is installed, else
+    scipy), 'scipy', 'fftw' (pyFFTW, optional) or 'cupy' (CuPy on a GPU, optional).
     """
     dt = _check_common(wavelength_nm, min_loss, z_order, polarisation, dtype)
     nx, ny, nz = (int(s) for s in shape)
@@ -211,8 +211,8 @@ def prepare_background(shape: tuple[int, int, int], period_nm: tuple[float, floa
         if not (ef.real > 0 and ef.imag >= 0 and math.isfinite(abs(ef))):
             raise ValueError(f"eps_face must have Re > 0 and Im ≥ 0, got {ef}")
     k0 = 2 * math.pi / wavelength_nm
-    m = np.rint(sfft.fftfreq(nx, 1.0 / nx)).astype(int)[:, None] * np.ones((1, ny), int)
-    n = np.rint(sfft.fftfreq(ny, 1.0 / ny)).astype(int)[None, :] * np.ones((nx, 1), int)
+    m = np.rint(np.fft.fftfreq(nx, 1.0 / nx)).astype(int)[:, None] * np.ones((1, ny), int)
+    n = np.rint(np.fft.fftfreq(ny, 1.0 / ny)).astype(int)[None, :] * np.ones((nx, 1), int)
     kx = kx0 + 2 * math.pi * m / lx
     ky = ky0 + 2 * math.pi * n / ly
     kt2 = kx * kx + ky * ky
@@ -228,7 +228,7 @@ def prepare_background(shape: tuple[int, int, int], period_nm: tuple[float, floa
     sg = slab_green(kap, ka, kc, float(thickness_nm), nz, z_order + 1, faces=face_coefs)
     w = default_workers() if workers is None else int(workers)
     backend = get_fft(fft, w)
-    zk = z_kernels(sg, dt, normalised=backend.normalised)
+    zk = z_kernels(sg, dt, normalised=backend.normalised, backend=backend)
     return Background((nx, ny, nz), (lx, ly), float(thickness_nm), ea, ec,
                       float(wavelength_nm), float(kx0), float(ky0), eb, nominal, polarisation, ef,
                       m, n, kx, ky, sg, zk, dt, w, backend, faces)
@@ -245,10 +245,8 @@ def with_contrast(bg: Background, cell: Cell) -> LayerOperator:
     if (complex(cell.eps_above).real, complex(cell.eps_below).real) != (bg.eps_above,
                                                                        bg.eps_below):
         raise ValueError("cell eps_above / eps_below do not match the background's")
-    eps = np.asarray(cell.eps)
-    contrast = np.empty(eps.shape, dtype=bg.dtype)
-    np.multiply(bg.k0 ** 2, eps - bg.eps_background, out=contrast)
-    return LayerOperator(bg, cell, contrast, to_zmajor(contrast))
+    contrast = bg.fft.asarray(bg.k0 ** 2 * (np.asarray(cell.eps) - bg.eps_background), bg.dtype)
+    return LayerOperator(bg, cell, contrast, to_zmajor(contrast, bg.fft))
 
 
 def prepare(cell: Cell, wavelength_nm: float, kx0: float, ky0: float, *,
@@ -280,15 +278,19 @@ def prepare(cell: Cell, wavelength_nm: float, kx0: float, ky0: float, *,
     return with_contrast(bg, cell)
 
 
-def to_zmajor(a: np.ndarray) -> np.ndarray:
-    """(…, nx, ny, nz) → a new C-contiguous, aligned array (…, nz, nx, ny)."""
-    out = aligned_empty(a.shape[:-3] + (a.shape[-1],) + a.shape[-3:-1], a.dtype)
+def to_zmajor(a: np.ndarray, backend: FFT | None = None) -> np.ndarray:
+    """(…, nx, ny, nz) → a new C-contiguous array (…, nz, nx, ny) of the backend (fftback.py;
+    None: host NumPy, aligned), from a host or backend array."""
+    shape = a.shape[:-3] + (a.shape[-1],) + a.shape[-3:-1]
+    out = aligned_empty(shape, a.dtype) if backend is None else backend.empty(shape, a.dtype)
+    if backend is not None:
+        a = backend.asarray(a)
     np.copyto(out, np.moveaxis(a, -1, -3))
     return out
 
 
 def from_zmajor(a: np.ndarray) -> np.ndarray:
-    """(…, nz, nx, ny) → a new C-contiguous array (…, nx, ny, nz)."""
+    """(…, nz, nx, ny) → a new C-contiguous array (…, nx, ny, nz) (same backend)."""
     return np.ascontiguousarray(np.moveaxis(a, -3, -1))
 
 
@@ -298,11 +300,12 @@ class Workspace:
 
     def __init__(self, op: LayerOperator | Background):
         nx, ny, nz = op.shape
-        self.f = borrow(op.zmajor_shape, op.dtype)
-        self.z = ZWork(nz, nx * ny, op.dtype)
+        self.backend = op.fft
+        self.f = borrow(op.zmajor_shape, op.dtype, op.fft)
+        self.z = ZWork(nz, nx * ny, op.dtype, op.fft)
 
     def release(self) -> None:
-        give_back(self.f)
+        give_back(self.f, backend=self.backend)
         self.z.release()
         del self.f, self.z
 
@@ -321,9 +324,9 @@ def scatter_zmajor(op: LayerOperator, w: np.ndarray, ws: Workspace,
     """G V·w for z-major w (nb, nz, nx, ny): the Born-series map without the source, into
     out (C-contiguous) or a new array."""
     if out is None:
-        out = aligned_empty(w.shape, op.dtype)
+        out = op.fft.empty(w.shape, op.dtype)
     g = _green_zmajor(op, np.multiply(op.contrast_zmajor, w, out=out), ws)
-    if g.ctypes.data != out.ctypes.data:          # the FFTs transform in place (fftback)
+    if not op.fft.same_buffer(g, out):            # the FFTs transform in place (fftback)
         np.copyto(out, g)
     return out
 
@@ -339,8 +342,8 @@ def apply_green(op: LayerOperator, f: np.ndarray, ws: Workspace | None = None) -
     """Galerkin moments of G·f for source moments f (nb, nx, ny, nz) at the nodes.  f is
     overwritten: it holds the result, which is returned."""
     ws = Workspace(op) if ws is None else ws
-    np.copyto(ws.f, np.moveaxis(f, -1, -3))
-    f[...] = np.moveaxis(_green_zmajor(op, ws.f, ws), -3, -1)
+    np.copyto(ws.f, to_zmajor(f, op.fft))
+    f[...] = op.fft.to_host(from_zmajor(_green_zmajor(op, ws.f, ws)))
     return f
 
 
@@ -361,8 +364,9 @@ def apply_system(op: LayerOperator, w: np.ndarray, ws: Workspace | None = None,
 def _in_natural_layout(zmajor_map, op: LayerOperator, w: np.ndarray, ws: Workspace | None,
                        out: np.ndarray | None) -> np.ndarray:
     """zmajor_map applied to w (nb, nx, ny, nz), the result in the same layout (into out)."""
-    g = zmajor_map(op, to_zmajor(w), Workspace(op) if ws is None else ws)
+    g = op.fft.to_host(from_zmajor(zmajor_map(op, to_zmajor(w, op.fft),
+                                              Workspace(op) if ws is None else ws)))
     if out is None:
-        return from_zmajor(g)
-    np.copyto(out, np.moveaxis(g, -3, -1))
+        return g
+    np.copyto(out, g)
     return out

@@ -11,7 +11,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.fft as sfft
 
 from .kernel1d import background_amplitudes, face_weights
 from .operator import LayerOperator, to_zmajor
@@ -66,12 +65,17 @@ def face_amplitudes(op: LayerOperator, f: np.ndarray, zmajor: bool = False
     weights times the face profiles' moments against the lateral DFT of f
     (zkernels.face_sums)."""
     nx, ny, nz = op.shape
-    fz = f if zmajor else to_zmajor(f)
-    fh = sfft.fft2(fz, axes=(-2, -1), workers=op.workers, overwrite_x=not zmajor)
-    sum_top, sum_bot = face_sums(op.zk, fh.reshape(op.nb, nz, nx * ny))
+    if zmajor:                        # f stays as it is: transform a copy (operator's backend)
+        fz = op.fft.empty(f.shape, f.dtype)
+        np.copyto(fz, f)
+    else:
+        fz = to_zmajor(f, op.fft)
+    fh = op.fft.lateral(fz)
+    sum_top, sum_bot = (op.fft.to_host(s).reshape(nx, ny)
+                        for s in face_sums(op.zk, fh.reshape(op.nb, nz, nx * ny)))
     ctop, cbot = face_weights(op.green)
     scale = op.lateral_phase / (nx * ny)
-    return ctop * scale * sum_top.reshape(nx, ny), cbot * scale * sum_bot.reshape(nx, ny)
+    return ctop * scale * sum_top, cbot * scale * sum_bot
 
 
 def _order_set(op: LayerOperator, amp: np.ndarray, kz: np.ndarray, kz_inc: float,

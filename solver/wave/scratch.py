@@ -14,7 +14,7 @@ import threading
 
 import numpy as np
 
-from .fftback import aligned_empty
+from .fftback import FFT, aligned_empty
 
 #: most bytes of scratch arrays a thread keeps between solves (64×64×32: one basis block of 16
 #: rows is 34 MB, the workspace 9 MB)
@@ -30,23 +30,31 @@ class _Pool(threading.local):
 _POOL = _Pool()
 
 
-def borrow(shape, dtype) -> np.ndarray:
-    """An aligned array of `shape` and `dtype` with undefined contents."""
-    key = (tuple(int(s) for s in np.atleast_1d(shape)), np.dtype(dtype).str)
+def borrow(shape, dtype, backend: FFT | None = None) -> np.ndarray:
+    """An array of `shape` and `dtype` with undefined contents, of the array backend
+    (fftback.py; None: host NumPy, aligned)."""
+    name = _where(backend)
+    key = (tuple(int(s) for s in np.atleast_1d(shape)), np.dtype(dtype).str, name)
     stack = _POOL.free.get(key)
     if stack:
         a = stack.pop()
         _POOL.nbytes -= a.nbytes
         return a
-    return aligned_empty(key[0], dtype)
+    return aligned_empty(key[0], dtype) if name == "host" else backend.empty(key[0], dtype)
 
 
-def give_back(*arrays: np.ndarray) -> None:
-    """Return borrowed arrays to this thread's pool (kept while it stays under POOL_BYTES)."""
+def _where(backend: FFT | None) -> str:
+    """The pool of a backend's arrays: 'host' for NumPy's (scipy.fft, FFTW), else its name."""
+    return "host" if backend is None or backend.name in ("scipy", "fftw") else backend.name
+
+
+def give_back(*arrays: np.ndarray, backend: FFT | None = None) -> None:
+    """Return arrays borrowed for `backend` to this thread's pool (kept while it stays under
+    POOL_BYTES)."""
     for a in arrays:
         if _POOL.nbytes + a.nbytes > POOL_BYTES:
             continue
-        _POOL.free.setdefault((a.shape, a.dtype.str), []).append(a)
+        _POOL.free.setdefault((a.shape, a.dtype.str, _where(backend)), []).append(a)
         _POOL.nbytes += a.nbytes
 
 

@@ -114,11 +114,12 @@ def _run(op: LayerOperator, b: np.ndarray, method: str, tol: float, maxiter: int
         method = "gmres" if (restart or _gmres_restart(op)) >= 10 else "bicgstab"
     ws = Workspace(op)
     kw = dict(tol=tol, maxiter=maxiter, callback=callback,
-              x0=None if x0 is None else to_zmajor(np.asarray(x0, dtype=op.dtype)))
+              x0=None if x0 is None else to_zmajor(np.asarray(x0, dtype=op.dtype), op.fft))
     try:
         if method == "gmres":
             m = max(1, restart or _gmres_restart(op))
-            return gmres(lambda x, o: scatter_zmajor(op, x, ws, o), b, restart=m, **kw)
+            return gmres(lambda x, o: scatter_zmajor(op, x, ws, o), b, restart=m, backend=op.fft,
+                         **kw)
         if method == "bicgstab":
             return bicgstab(lambda x, o: system_zmajor(op, x, ws, o), b, **kw)
         return born(lambda x, o: scatter_zmajor(op, x, ws, o), b, **kw)
@@ -185,16 +186,16 @@ def solve_prepared(op: LayerOperator, from_below: bool = False, *, tol: float = 
                          f"previous result's `solution` on the same grid), got {np.shape(x0)}")
     t0 = time.perf_counter()
     nx, ny, nz = op.shape
-    b = to_zmajor(source(op, from_below))
+    b = to_zmajor(source(op, from_below), op.fft)
     with one_blas_thread():     # vector work on one BLAS thread (vecops.py), not only Krylov's
         out = _run(op, b, method, tol, maxiter, restart, x0, callback)
         f_z = op.contrast_zmajor * out.x                          # z-major, as out.x
-        w = from_zmajor(out.x)
+        w = op.fft.to_host(from_zmajor(out.x))                     # the solution, on the host
         refl, trans, kz_inc = diffraction_orders(op, f_z, from_below, zmajor=True)
         big_r, big_t = refl.total, trans.total
         a_mid = midpoint_absorption(op, w, from_below, kz_inc)
         if exact_energy or (out.residual_vector is None and out.converged):
-            a_exact = absorption(op, w, from_zmajor(f_z), from_below, kz_inc, refl, trans)
+            a_exact = absorption(op, w, f_z, from_below, kz_inc, refl, trans)
             check = "quadrature"
         elif out.residual_vector is None:
             # a truncated (unconverged) Born series is not meant to conserve energy: the cheap
@@ -257,7 +258,7 @@ def solve(cell: Cell, incidence: Incidence, *, tol: float = DEFAULT_TOL, method:
     For several incidences with the same Bloch vector (above and below), call prepare() once
     and solve_prepared() per side.  The returned `seconds` include the preparation.
     dtype None: complex64 when tol ≥ 1e-5 (its rounding floor is ~1e-6), else complex128.
-    polarisation 'te' | 'tm', eps_face, tm_faces: the face conditions; fft: 'scipy' | 'fftw' | 'auto'
+    polarisation 'te' | 'tm', eps_face, tm_faces: the face conditions; fft: 'scipy' | 'fftw' | 'cupy' | 'auto'
     (operator.prepare_background).
     """
     if dtype is None:

@@ -19,6 +19,7 @@ from typing import Iterator
 
 import numpy as np
 
+from .fftback import FFT, HOST
 from .scratch import borrow, give_back
 
 #: elements per BLAS call in inner products (partial sums in complex128 across chunks)
@@ -81,11 +82,12 @@ class Basis:
 
     BLOCK = 16
 
-    def __init__(self, rows: int, size: int, dtype: np.dtype):
+    def __init__(self, rows: int, size: int, dtype: np.dtype, backend: FFT = HOST):
         self.rows, self.size, self.dtype = rows, size, np.dtype(dtype)
+        self.backend = backend
         self.blocks: list[np.ndarray] = []
         self.n = 0
-        self._buf = np.empty(min(CHUNK, size), dtype=self.dtype)
+        self._buf = backend.empty(min(CHUNK, size), self.dtype)
 
     def row(self, j: int) -> np.ndarray:
         """Row j (allocating its block when first reached)."""
@@ -93,13 +95,13 @@ class Basis:
             raise IndexError(f"basis has {self.rows} rows")
         b, i = divmod(j, self.BLOCK)
         while len(self.blocks) <= b:      # full blocks: one shape for the pool
-            self.blocks.append(borrow((self.BLOCK, self.size), self.dtype))
+            self.blocks.append(borrow((self.BLOCK, self.size), self.dtype, self.backend))
         return self.blocks[b][i]
 
     def release(self) -> None:
         """Give the blocks back to the thread's scratch pool (scratch.py); the basis is empty
         afterwards."""
-        give_back(*self.blocks)
+        give_back(*self.blocks, backend=self.backend)
         self.blocks, self.n = [], 0
 
     def append(self, w: np.ndarray, scale: float) -> None:
@@ -115,7 +117,7 @@ class Basis:
 
     def project(self, w: np.ndarray, n: int) -> tuple[np.ndarray, float]:
         """(⟨v_i, w⟩ for the first n rows (complex128), ‖w‖²), in one pass."""
-        h = np.zeros(n, dtype=complex)
+        h = self.backend.zeros(n, complex)
         norm2 = 0.0
         spans = list(self._spans(n))
         for i in range(0, w.size, CHUNK):
@@ -123,11 +125,11 @@ class Basis:
             norm2 += float(np.vdot(wc, wc).real)
             for start, block in spans:
                 h[start:start + block.shape[0]] += block[:, i:i + CHUNK] @ wc
-        return h.conj(), norm2
+        return self.backend.to_host(h).conj(), norm2
 
     def subtract(self, w: np.ndarray, coef: np.ndarray, n: int, scale: float = 1.0) -> None:
         """w ← (w − Σ_i coef_i v_i)·scale over the first n rows (in place, one pass)."""
-        c = coef[:n].astype(self.dtype)
+        c = self.backend.asarray(coef[:n], self.dtype)
         spans = list(self._spans(n))
         for i in range(0, w.size, CHUNK):
             part = w[i:i + CHUNK]
@@ -140,9 +142,10 @@ class Basis:
         """x += Σ_i y_i v_i (in place) and r = Σ_i z_i v_i (a new array) in one pass over the
         first len(z) ≥ len(y) rows; returns (r, ‖r‖²)."""
         n = len(z)
-        coef = np.zeros((2, n), dtype=self.dtype)
-        coef[0, :len(y)] = y
-        coef[1] = z
+        host = np.zeros((2, n), dtype=self.dtype)
+        host[0, :len(y)] = y
+        host[1] = z
+        coef = self.backend.asarray(host)
         r = np.empty_like(x)
         norm2 = 0.0
         spans = list(self._spans(n))

@@ -36,6 +36,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .fftback import FFT
 from .scratch import borrow, give_back
 from .kernel1d import SlabGreen
 from .zbasis import diag_galerkin, single_integrals
@@ -67,8 +68,10 @@ class ZKernels:
     nb: int
 
 
-def z_kernels(sg: SlabGreen, dtype: type, normalised: bool = True) -> ZKernels:
-    """The recursion constants, computed in complex128 and stored in dtype.
+def z_kernels(sg: SlabGreen, dtype: type, normalised: bool = True,
+              backend: FFT | None = None) -> ZKernels:
+    """The recursion constants, computed in complex128 on the host and stored in dtype as
+    arrays of the backend (fftback.py; None: host NumPy).
 
     normalised False: the operator's inverse lateral FFT does not divide by nx·ny, so 1/(nx·ny)
     is folded into scale, scale_ratio and diag here.
@@ -88,13 +91,12 @@ def z_kernels(sg: SlabGreen, dtype: type, normalised: bool = True) -> ZKernels:
     diag = [ph * (diag_galerkin(p, p, x, np.ones_like(x), step)
                   + rtrb * diag_galerkin(p, p, -x, edge * edge, edge * rows[nz - 1])) * lateral
             for p in range(nb)]
-    far_powers = np.empty((nz - 1, size), dtype=dtype)
-    np.multiply(rtrb * edge, rows[:nz - 1], out=far_powers, casting="same_kind")
+    far_powers = rtrb * edge * rows[:nz - 1]
 
     def cast(a) -> np.ndarray:
-        return np.ascontiguousarray(a, dtype=dtype)
+        return np.ascontiguousarray(a, dtype=dtype) if backend is None else backend.asarray(a, dtype)
 
-    return ZKernels(cast(step), cast(rows[:nz]), cast(edge), far_powers,
+    return ZKernels(cast(step), cast(rows[:nz]), cast(edge), cast(far_powers),
                     cast(np.stack([sg.r_top.reshape(size), sg.r_bottom.reshape(size)])),
                     cast(integ[0]), cast(scale), cast(scale * ratio), cast(ratio),
                     cast(np.stack(diag)), nz, nb)
@@ -104,14 +106,15 @@ class ZWork:
     """Scratch arrays of apply_z for nz cells × `size` harmonics (reused across applications;
     borrowed from the thread's scratch pool, scratch.py, until release())."""
 
-    def __init__(self, nz: int, size: int, dtype: np.dtype):
-        self.gam = borrow((2, nz, size), dtype)
-        self.suf = borrow((2, nz, size), dtype)
-        self.low = borrow((2, nz, size), dtype)
-        self.tmp = borrow((nz, size), dtype)
+    def __init__(self, nz: int, size: int, dtype: np.dtype, backend: FFT | None = None):
+        self.backend = backend
+        self.gam = borrow((2, nz, size), dtype, backend)
+        self.suf = borrow((2, nz, size), dtype, backend)
+        self.low = borrow((2, nz, size), dtype, backend)
+        self.tmp = borrow((nz, size), dtype, backend)
 
     def release(self) -> None:
-        give_back(self.gam, self.suf, self.low, self.tmp)
+        give_back(self.gam, self.suf, self.low, self.tmp, backend=self.backend)
         del self.gam, self.suf, self.low, self.tmp
 
 
