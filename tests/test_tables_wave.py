@@ -62,7 +62,7 @@ def test_small_table_equals_direct_solves(tmp_path, polarisation):
         eps_b = complex(molecular_eps(req.layer.ink, wl, req.layer_materials()))
         for si, sigma in enumerate(req.grids.sigma_rad[:-1]):
             direct = [solve(cell, Incidence(wl, sigma, phi), tol=req.wave.solver_tol, eps_background=eps_b,
-                            polarisation=p) for p in pols]
+                            eps_face=eps_b, polarisation=p) for p in pols]   # faces: the layer's ε
             mean = lambda f: np.mean([f(d) for d in direct])
             assert table.Rbar[li, si] == pytest.approx(mean(lambda d: d.R), abs=1e-9)
             assert table.Tbar[li, si] == pytest.approx(mean(lambda d: d.T), abs=1e-9)
@@ -299,24 +299,31 @@ def test_target_se_adds_realizations_until_met_or_capped(tmp_path, caplog):
     np.testing.assert_array_equal(tight.Rbar, same.Rbar)
 
 
-def test_a_stack_through_the_wave_path_equals_the_exact_multilayer_film():
+@pytest.mark.parametrize("polarisation", ["te", "unpolarised"])
+def test_a_stack_through_the_wave_path_equals_the_exact_multilayer_film(polarisation):
     """Two homogeneous layers stacked on one grid (Y15 over B15), solved by the wave tier from
-    above and below, equal the exact TE stack film — the background is their mean, so the
-    contrast is not zero and the test exercises the stacked geometry and the solves from below.
-    (TE only: in TM the scalar interior cannot carry the (1/ε)∂u condition at the inner face.)"""
+    above and below, equal the exact stack film — the background is their mean, so the
+    contrast is not zero and the test exercises the stacked geometry and the solves from below;
+    in TM each face takes its layer's ε and the inner interface its TM condition
+    (solver/wave/interfaces.py), so the unpolarised table is exact too."""
     from solver.geometry.stacking import stack_voxels, uniform_layer
     from solver.table.thinfilm_tier import request_film
 
     req = small(ink="Y15/B15", particles="sphere:300/molecular", grid=(8, 8, 32), realizations=1,
-                wavelengths_nm=(450.0, 610.0), polarisation="te")
+                wavelengths_nm=(450.0, 610.0), polarisation=polarisation,
+                sigma_rad=tuple(np.radians([0.0, 40.0, 70.0, 85.0, 90.0])))
     nx, ny, nz = req.wave.grid
     period = (req.wave.cell_nm,) * 2
     vox = stack_voxels([uniform_layer(req.layers[0].ink, (nx, ny, nz // 2), period, (0.0, 1000.0)),
                         uniform_layer(req.layers[1].ink, (nx, ny, nz // 2), period, (1000.0, 2000.0))])
     table = reduce_units(req, [[solve_unit(SolveUnit(req, 0, li, vox)) for li in range(2)]], {"schema_version": 2})
     film = request_film(req, polarisation=req.polarisation)
-    for name in ("R_spec", "T_coh", "Rbar", "Tbar", "Rbar_below"):
-        np.testing.assert_allclose(getattr(table, name), getattr(film, name), atol=5e-5, err_msg=name)
+    names = ("R_spec", "T_coh", "Rbar", "Tbar", "Rbar_below")
+    if polarisation == "unpolarised":
+        names += ("Rbar_s", "Rbar_p", "Tbar_s", "Tbar_p")
+    for name in names:        # the table's tol 1e-3 and 16 cells per layer: not the ≤ 1e-5 of
+        np.testing.assert_allclose(getattr(table, name), getattr(film, name), atol=1e-4,
+                                   err_msg=name)              # tests/test_wave_stacks.py
     assert np.max(np.abs(table.Rbar_below - table.Rbar)) > 1e-3       # a stack is not up-down symmetric
 
 

@@ -17,7 +17,9 @@ Sampling (docs/tables.md):
   azimuth is itself a random sample of a statistically isotropic layer).  With an odd number,
   every azimuth is solved in both.
 - the background slab's ε_b is the ink's nominal mean permittivity (the voxel fractions make
-  each realization's mean equal to it), also the TM face permittivity ε_f.
+  each realization's mean equal to it); the TM faces' ε_f are each layer's own (face_eps: for
+  one layer ε_b; a stack's faces its top and bottom layers', and its inner interfaces get the
+  TM conditions).
 - the scheme-exact energy identity (quadrature of ∫ Im ε |u|²) is evaluated on one solve per
   unit; every other solve closes its energy from the true residual (solver.wave).
 - every full solve converges or the unit is refused: a solve short of its tolerance climbs the
@@ -36,6 +38,7 @@ from ..geometry import LayerSpec, eps_grid, generate, voxelize
 from ..geometry.stacking import split_cells, stack_voxels, uniform_layer
 from ..inks import molecular_eps
 from ..wave import Cell, prepare, solve_prepared
+from ..wave.interfaces import FaceLayers
 from .orders_to_brdf import fold_dphi, spread_orders
 from .request import TableRequest
 from .retry import converged_solve
@@ -78,11 +81,25 @@ def needs_below(request: TableRequest) -> bool:
     return len(request.layers) > 1 or request.has_rough_top
 
 
+def layer_eps(request: TableRequest, wavelength_nm: float) -> list[complex]:
+    """Each layer's molecular-mix permittivity (with its grains' local field), top first."""
+    return [complex(molecular_eps(layer.ink, wavelength_nm, request.layer_materials(i)))
+            for i, layer in enumerate(request.layers)]
+
+
 def nominal_eps(request: TableRequest, wavelength_nm: float) -> complex:
     """The background slab's ε_b: the layers' molecular-mix permittivities, thickness-weighted."""
     total = request.thickness_nm
-    return complex(sum(molecular_eps(layer.ink, wavelength_nm, request.layer_materials(i)) * layer.thickness_nm
-                       / total for i, layer in enumerate(request.layers)))
+    return complex(sum(e * layer.thickness_nm / total
+                       for e, layer in zip(layer_eps(request, wavelength_nm), request.layers)))
+
+
+def face_eps(request: TableRequest, wavelength_nm: float) -> FaceLayers:
+    """The TM faces' ε_f: each layer's own permittivity on its z-cells (a stack's top face the
+    top layer's, its bottom face the bottom layer's, and the TM conditions between its layers:
+    solver/wave/interfaces.py)."""
+    cells = split_cells([layer.thickness_nm for layer in request.layers], request.wave.grid[2])
+    return FaceLayers(tuple(cells), tuple(layer_eps(request, wavelength_nm)))
 
 
 def cell_eps(request: TableRequest, vox, wavelength_nm: float) -> np.ndarray:
@@ -143,7 +160,7 @@ class SolveUnit:
 
 
 def _operators(cell: Cell, wl: float, kx0: float, ky0: float, eps_nominal: complex,
-               polarisation: str, threads: int | None):
+               eps_faces: FaceLayers, polarisation: str, threads: int | None):
     """make_op(dtype) → the prepared operator of one incidence in that dtype, prepared once per
     dtype (both sides and every rung of the retry ladder share it)."""
     ops = {}
@@ -151,7 +168,8 @@ def _operators(cell: Cell, wl: float, kx0: float, ky0: float, eps_nominal: compl
     def make_op(dtype=np.complex64):
         if dtype not in ops:
             ops[dtype] = prepare(cell, wl, kx0, ky0, eps_background=eps_nominal,
-                                 polarisation=polarisation, workers=threads, dtype=dtype)
+                                 eps_face=eps_faces, polarisation=polarisation,
+                                 workers=threads, dtype=dtype)
         return ops[dtype]
     return make_op
 
@@ -163,7 +181,7 @@ def solve_unit(unit: SolveUnit) -> dict:
     sig, phis, todo = req.grids.solved_sigma_rad, azimuths(req, unit.realization), samples(req)
     below = needs_below(req)
     cell = Cell(cell_eps(req, vox, wl), tuple(vox.period_nm), tuple(vox.z_range_nm))
-    eps_nominal = nominal_eps(req, wl)
+    eps_nominal, eps_faces = nominal_eps(req, wl), face_eps(req, wl)
     z_top, z_bottom = (float(z) for z in vox.z_range_nm)
     polar, dphi = np.asarray(req.grids.sigma_rad), req.grids.dphi_rad
     shape = (sig.size, len(todo))
@@ -179,7 +197,8 @@ def solve_unit(unit: SolveUnit) -> dict:
         for k, (j, pol) in enumerate(todo):
             phi = phis[j]
             kx0, ky0 = k0 * np.sin(s) * np.cos(phi), k0 * np.sin(s) * np.sin(phi)
-            make_op = _operators(cell, wl, kx0, ky0, eps_nominal, ("te", "tm")[pol], unit.threads)
+            make_op = _operators(cell, wl, kx0, ky0, eps_nominal, eps_faces, ("te", "tm")[pol],
+                                 unit.threads)
             exact = i == 0 and k == 0 and unit.method != "born"   # the sampled exact identity
             for from_below in ((False, True) if below else (False,)):
                 if unit.method == "born":      # first order by design: truncated on purpose

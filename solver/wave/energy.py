@@ -143,6 +143,9 @@ def absorption(op: LayerOperator, w: np.ndarray, f: np.ndarray, from_below: bool
     w: the solved periodic field (moments, (nb, nx, ny, nz), on the host); f = V·w (z-major,
     (nb, nz, nx, ny), an array of the operator's backend).
     """
+    if op.interfaces is not None:
+        raise ValueError("exact_energy: the quadrature of ∫|u|² does not weigh a TM stack's layers "
+                         "(interfaces.py); its energy closes from the residual (exact_energy=False)")
     lx, ly = op.cell.period_nm
     eb = op.eps_background
     eps = np.asarray(op.cell.eps)

@@ -123,7 +123,7 @@ class FaceCoefficients:
 
 
 def harmonic_forms(faces: TMFaces, kt2: np.ndarray, k_denser: np.ndarray, eps_above: float,
-                   eps_below: float, eps_face: complex, k0: float) -> np.ndarray:
+                   eps_below: float, eps_face: tuple[complex, complex], k0: float) -> np.ndarray:
     """FORMS index per harmonic, common to both faces (u is one field in the slab); index
     [0, 0] is the 00 harmonic (FFT order).
 
@@ -135,8 +135,12 @@ def harmonic_forms(faces: TMFaces, kt2: np.ndarray, k_denser: np.ndarray, eps_ab
     where a harmonic crosses a bound, docs/wave_solver.md).
     The 'e' form needs the 00 harmonic to propagate in the face medium (Re κ_f²/ε_f > 0), where
     it carries the incident power: it falls back to 'h' where it does not (incidence from a
-    half-space denser than the slab beyond its critical angle, beyond q_B as well)."""
-    ef = complex(eps_face)
+    half-space denser than the slab beyond its critical angle, beyond q_B as well).
+    eps_face: (ε_f top, ε_f bottom); the Brewster bound takes their mean (one bound for both
+    faces: u is one field; equal ε_f — a single layer — meet exactly at q_B, unequal ones — a
+    stack — nearly)."""
+    top, bottom = (complex(e) for e in eps_face)
+    ef = 0.5 * (top + bottom)
     eps_m = min(float(eps_above), float(eps_below))
     q_b2 = k0 * k0 * (ef * eps_m / (ef + eps_m)).real
     prop = (k_denser.imag == 0) & (k_denser.real > 0)
@@ -145,7 +149,8 @@ def harmonic_forms(faces: TMFaces, kt2: np.ndarray, k_denser: np.ndarray, eps_ab
                     FORMS.index(faces.evanescent))
     if faces.mean is not None:
         form[0, 0] = FORMS.index(faces.mean)
-    if form[0, 0] == FORMS.index("e") and not (kt2[0, 0] / (k0 * k0 * ef)).real < 1.0:
+    if form[0, 0] == FORMS.index("e") and not all((kt2[0, 0] / (k0 * k0 * e)).real < 1.0
+                                                   for e in (top, bottom)):
         form[0, 0] = FORMS.index("h")
     return form
 

@@ -27,6 +27,7 @@ import numpy as np
 
 from .faces import (DEFAULT_TM_FACES, TMFaces, face_coefficients, harmonic_forms,
                     parse_tm_faces)
+from .interfaces import FaceLayers, Interfaces, build as build_interfaces
 from .fftback import DEFAULT_FFT, FFT, aligned_empty, default_workers, get_fft
 from .scratch import borrow, give_back
 from .kernel1d import SlabGreen, face_profiles, slab_green, vertical_wavenumber
@@ -50,13 +51,14 @@ class Background:
 
     shape (nx, ny, nz); period_nm (Lx, Ly); thickness_nm H; eps_above / eps_below: the
     half-spaces; eps_background: ε_b of the slab as used (Im raised to min_loss);
-    eps_nominal: ε_b as asked (before min_loss); polarisation 'te' | 'tm'; eps_face: ε_f of the
-    TM face conditions (None for TE); tm_faces: the TM face forms per class of harmonic
+    eps_nominal: ε_b as asked (before min_loss); polarisation 'te' | 'tm'; eps_face: (top,
+    bottom) ε_f of the TM face conditions, each face its own (None for TE); tm_faces: the TM face forms per class of harmonic
     (faces.TMFaces; None for TE).  Arrays of shape (nx, ny) are per lateral harmonic in FFT
     order (order indices m, n).  zk: the z-recursion constants (zkernels.py); ptop, pbot
     (computed on demand; the solver needs neither): moments of the face profiles
     (kernel1d.face_profiles), (nb, nx, ny, nz) in dtype; fft: the FFT backend (fftback.py;
-    its normalisation is folded into zk).
+    its normalisation is folded into zk).  interfaces: the TM correction for the inner
+    interfaces of a stack (interfaces.py; None for one layer and for TE).
     """
 
     shape: tuple[int, int, int]
@@ -70,7 +72,7 @@ class Background:
     eps_background: complex
     eps_nominal: complex
     polarisation: str
-    eps_face: complex | None
+    eps_face: tuple[complex, complex] | None
     m: np.ndarray
     n: np.ndarray
     kx: np.ndarray
@@ -81,6 +83,7 @@ class Background:
     workers: int
     fft: FFT
     tm_faces: TMFaces | None = None
+    interfaces: Interfaces | None = None
 
     @property
     def k0(self) -> float:
@@ -142,6 +145,11 @@ class LayerOperator:
         return self.contrast.dtype
 
 
+def face_layers(value: "complex | FaceLayers", nz: int) -> FaceLayers:
+    """eps_face as FaceLayers: one permittivity is one layer of nz cells."""
+    return value if isinstance(value, FaceLayers) else FaceLayers((nz,), (complex(value),))
+
+
 def choose_background(eps: np.ndarray, min_loss: float) -> complex:
     """Volume mean of ε with Im ε_b raised to at least min_loss."""
     mean = complex(np.mean(eps))
@@ -168,7 +176,8 @@ def prepare_background(shape: tuple[int, int, int], period_nm: tuple[float, floa
                        thickness_nm: float, wavelength_nm: float, kx0: float, ky0: float,
                        eps_background: complex, *, eps_above: float = 1.0,
                        eps_below: float = 1.0, polarisation: str = "te",
-                       eps_face: complex | None = None, min_loss: float = DEFAULT_MIN_LOSS,
+                       eps_face: "complex | FaceLayers | None" = None,
+                       min_loss: float = DEFAULT_MIN_LOSS,
                        z_order: int = 1, dtype: type = np.complex64,
                        workers: int | None = None, fft: str = DEFAULT_FFT,
                        tm_faces: "str | TMFaces" = DEFAULT_TM_FACES) -> Background:
@@ -178,7 +187,10 @@ def prepare_background(shape: tuple[int, int, int], period_nm: tuple[float, floa
     eps_background: ε_b of the slab; its imaginary part is raised to min_loss if smaller.
     eps_above / eps_below: real, positive half-space permittivities.  polarisation: 'te' (the
     scalar model is exact TE at the faces) or 'tm' (u and ∂_z u/ε continuous at the faces, with
-    ε_f = eps_face for the slab, default: eps_background as given, without min_loss).
+    ε_f = eps_face for the slab: one value for both faces, or a stack's FaceLayers (each layer's
+    z-cells and ε_f, top first: each face its own layer's permittivity, and the TM conditions
+    at the inner interfaces, interfaces.py); default: eps_background as given, without
+    min_loss).
     tm_faces: TM only, which face form each lateral harmonic gets (faces.py): a preset name
     ('brewster', the default: u = E_x for harmonics below Brewster's wavevector, H_y above
     it up to the light line, TE conditions for evanescent ones; 'all': H_y everywhere, the
@@ -207,9 +219,8 @@ def prepare_background(shape: tuple[int, int, int], period_nm: tuple[float, floa
     if polarisation != "tm":
         faces = None
     else:
-        ef = nominal if eps_face is None else complex(eps_face)
-        if not (ef.real > 0 and ef.imag >= 0 and math.isfinite(abs(ef))):
-            raise ValueError(f"eps_face must have Re > 0 and Im ≥ 0, got {ef}")
+        layers = face_layers(nominal if eps_face is None else eps_face, nz)
+        ef = (complex(layers.eps[0]), complex(layers.eps[-1]))
     k0 = 2 * math.pi / wavelength_nm
     m = np.rint(np.fft.fftfreq(nx, 1.0 / nx)).astype(int)[:, None] * np.ones((1, ny), int)
     n = np.rint(np.fft.fftfreq(ny, 1.0 / ny)).astype(int)[None, :] * np.ones((nx, 1), int)
@@ -223,15 +234,17 @@ def prepare_background(shape: tuple[int, int, int], period_nm: tuple[float, floa
     face_coefs = None
     if faces is not None:
         form = harmonic_forms(faces, kt2, ka if ea >= ec else kc, ea, ec, ef, k0)
-        face_coefs = (face_coefficients(form, kap, ka, kt2, ea, ef, k0, top=True),
-                      face_coefficients(form, kap, kc, kt2, ec, ef, k0, top=False))
+        face_coefs = (face_coefficients(form, kap, ka, kt2, ea, ef[0], k0, top=True),
+                      face_coefficients(form, kap, kc, kt2, ec, ef[1], k0, top=False))
     sg = slab_green(kap, ka, kc, float(thickness_nm), nz, z_order + 1, faces=face_coefs)
     w = default_workers() if workers is None else int(workers)
     backend = get_fft(fft, w)
     zk = z_kernels(sg, dt, normalised=backend.normalised, backend=backend)
+    inner = None if faces is None else build_interfaces(sg, layers, face_coefs[0].form, kt2, k0,
+                                                        dt, backend)
     return Background((nx, ny, nz), (lx, ly), float(thickness_nm), ea, ec,
                       float(wavelength_nm), float(kx0), float(ky0), eb, nominal, polarisation, ef,
-                      m, n, kx, ky, sg, zk, dt, w, backend, faces)
+                      m, n, kx, ky, sg, zk, dt, w, backend, faces, inner)
 
 
 def with_contrast(bg: Background, cell: Cell) -> LayerOperator:
@@ -252,13 +265,16 @@ def with_contrast(bg: Background, cell: Cell) -> LayerOperator:
 def prepare(cell: Cell, wavelength_nm: float, kx0: float, ky0: float, *,
             eps_background: complex | None = None, min_loss: float = DEFAULT_MIN_LOSS,
             z_order: int = 1, dtype: type = np.complex64, workers: int | None = None,
-            polarisation: str = "te", eps_face: complex | None = None,
+            polarisation: str = "te", eps_face: "complex | FaceLayers | None" = None,
             background: Background | None = None, fft: str = DEFAULT_FFT,
             tm_faces: "str | TMFaces" = DEFAULT_TM_FACES) -> LayerOperator:
     """Build the operator for one cell, wavelength (nm) and Bloch vector (kx0, ky0) in 1/nm.
 
     eps_background: ε_b of the background slab (default: volume mean of ε); its imaginary part
-    is raised to min_loss if smaller.  polarisation, eps_face, tm_faces, z_order, dtype,
+    is raised to min_loss if smaller.  eps_face (TM): one ε_f for both faces or FaceLayers,
+    default the cell's own volume mean ε whatever ε_b (a homogeneous film is then its own face
+    permittivity; a stack's caller passes its layers).
+    polarisation, tm_faces, z_order, dtype,
     workers, fft: see prepare_background.  background: a prepared Background to reuse (then ε_b, polarisation,
     z_order, dtype and workers are the background's, and the other arguments must not
     contradict it).
@@ -269,11 +285,13 @@ def prepare(cell: Cell, wavelength_nm: float, kx0: float, ky0: float, *,
             raise ValueError("background was prepared for another wavelength / Bloch vector")
         return with_contrast(background, cell)
     eps = np.asarray(cell.eps)
-    nominal = complex(np.mean(eps)) if eps_background is None else complex(eps_background)
+    mean = complex(np.mean(eps))
+    nominal = mean if eps_background is None else complex(eps_background)
     bg = prepare_background(cell.shape, cell.period_nm, cell.thickness_nm, wavelength_nm, kx0,
                             ky0, nominal, eps_above=complex(cell.eps_above).real,
                             eps_below=complex(cell.eps_below).real, polarisation=polarisation,
-                            eps_face=eps_face, min_loss=min_loss, z_order=z_order, dtype=dtype,
+                            eps_face=mean if eps_face is None else eps_face,
+                            min_loss=min_loss, z_order=z_order, dtype=dtype,
                             workers=workers, fft=fft, tm_faces=tm_faces)
     return with_contrast(bg, cell)
 
@@ -315,7 +333,12 @@ def _green_zmajor(op: LayerOperator, f: np.ndarray, ws: Workspace) -> np.ndarray
     overwritten with the result (returned; f itself unless the FFT library copied)."""
     nb, nz, nx, ny = f.shape
     fh = op.fft.lateral(f)
-    apply_z(op.zk, fh.reshape(nb, nz, nx * ny), ws.z)
+    flat = fh.reshape(nb, nz, nx * ny)
+    inner = op.interfaces
+    sigma = None if inner is None else inner.sources(flat, lateral=True)   # before apply_z
+    apply_z(op.zk, flat, ws.z)
+    if sigma is not None:
+        inner.add_field(flat, sigma)
     return op.fft.lateral(fh, inverse=True)
 
 

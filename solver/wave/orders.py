@@ -70,25 +70,32 @@ def face_amplitudes(op: LayerOperator, f: np.ndarray, zmajor: bool = False
         np.copyto(fz, f)
     else:
         fz = to_zmajor(f, op.fft)
-    fh = op.fft.lateral(fz)
-    sum_top, sum_bot = (op.fft.to_host(s).reshape(nx, ny)
-                        for s in face_sums(op.zk, fh.reshape(op.nb, nz, nx * ny)))
+    fh = op.fft.lateral(fz).reshape(op.nb, nz, nx * ny)
+    sum_top, sum_bot = (op.fft.to_host(s).reshape(nx, ny) for s in face_sums(op.zk, fh))
     ctop, cbot = face_weights(op.green)
     scale = op.lateral_phase / (nx * ny)
-    return ctop * scale * sum_top, cbot * scale * sum_bot
+    top, bot = ctop * scale * sum_top, cbot * scale * sum_bot
+    inner = op.interfaces
+    if inner is not None:             # the inner interfaces' sources (interfaces.py)
+        sigma = op.fft.to_host(inner.sources(fh))
+        top = top + scale * np.sum(inner.face_top * sigma, axis=0).reshape(nx, ny)
+        bot = bot + scale * np.sum(inner.face_bottom * sigma, axis=0).reshape(nx, ny)
+    return top, bot
 
 
 def _order_set(op: LayerOperator, amp: np.ndarray, kz: np.ndarray, kz_inc: float,
-               face=None, face_in=None) -> OrderSet:
+               face=None, face_in=None, through=1.0) -> OrderSet:
     """face None: TE powers (kz/kz_inc)|amp|²; else (TM, faces.py) Re ψ|amp|²/Re ψ_in and the
-    propagating amplitudes rescaled by √(f/f_in) (f the faces' flux factors)."""
+    propagating amplitudes rescaled by √(f/f_in) (f the faces' flux factors); through: the
+    layer weights ℓ_in/ℓ_far of a stack's faces for the orders that cross it (interfaces.py)."""
     prop = (kz.imag == 0) & (kz.real >= 0)
     kzr = np.where(prop, kz.real, 0.0)
     if face is None:
         power = np.where(prop, kzr / kz_inc * np.abs(amp) ** 2, 0.0)
     else:
-        power = np.where(prop, face.psi.real / face_in.psi[0, 0].real * np.abs(amp) ** 2, 0.0)
-        scale = np.sqrt(face.flux_factor / face_in.flux_factor[0, 0])
+        power = np.where(prop, (face.psi * through).real / face_in.psi[0, 0].real
+                         * np.abs(amp) ** 2, 0.0)
+        scale = np.sqrt(face.flux_factor / face_in.flux_factor[0, 0] * through)
         amp = np.where(prop, amp * scale, amp)
     kt = np.hypot(op.kx, op.ky)
     theta = np.where(prop, np.arctan2(kt, kzr), math.pi / 2)
@@ -109,6 +116,13 @@ def diffraction_orders(op: LayerOperator, f: np.ndarray, from_below: bool, zmajo
     """
     top, bot = face_amplitudes(op, f, zmajor)
     _, refl_b, trans_b = background_amplitudes(op.green, from_below)
+    inner = op.interfaces
+    if inner is not None:             # the inner interfaces' sources in the background wave
+        sigma = inner.background(from_below)
+        at_top, at_bottom = complex(inner.face_top[:, 0] @ sigma), complex(inner.face_bottom[:, 0] @ sigma)
+        refl_b, trans_b = refl_b.copy(), trans_b.copy()
+        refl_b[0, 0] += at_bottom if from_below else at_top
+        trans_b[0, 0] += at_top if from_below else at_bottom
     g = op.green
     k_in, k_out = (g.k_below, g.k_above) if from_below else (g.k_above, g.k_below)
     refl, trans = (bot, top) if from_below else (top, bot)
@@ -121,5 +135,10 @@ def diffraction_orders(op: LayerOperator, f: np.ndarray, from_below: bool, zmajo
     if faces is None:
         return (_order_set(op, refl, k_in, kz_inc), _order_set(op, trans, k_out, kz_inc), kz_inc)
     f_in, f_out = (faces[1], faces[0]) if from_below else faces
+    through = 1.0
+    if inner is not None:
+        w_in, w_out = ((inner.weight_bottom, inner.weight_top) if from_below
+                       else (inner.weight_top, inner.weight_bottom))
+        through = w_in / w_out
     return (_order_set(op, refl, k_in, kz_inc, f_in, f_in),
-            _order_set(op, trans, k_out, kz_inc, f_out, f_in), kz_inc)
+            _order_set(op, trans, k_out, kz_inc, f_out, f_in, through), kz_inc)

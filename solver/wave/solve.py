@@ -8,6 +8,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from .faces import DEFAULT_TM_FACES, TMFaces, preset_name
+from .interfaces import FaceLayers
 from .energy import absorption, closure, midpoint_absorption
 from .fftback import DEFAULT_FFT
 from .kernel1d import background_amplitudes, face_profiles, harmonic_green
@@ -133,9 +134,12 @@ def source(op: LayerOperator, from_below: bool = False) -> np.ndarray:
     00 harmonic only: laterally uniform)."""
     green00 = harmonic_green(op.green, (slice(0, 1), slice(0, 1)))
     coef, _, _ = background_amplitudes(green00, from_below)
-    prof = face_profiles(green00)[1 if from_below else 0]
-    return np.broadcast_to((coef[0, 0] * prof[:, 0, 0])[:, None, None, :].astype(op.dtype),
-                           op.unknown_shape).copy()
+    prof = coef[0, 0] * face_profiles(green00)[1 if from_below else 0][:, 0, 0]   # (nb, nz)
+    inner = op.interfaces
+    if inner is not None:     # the inner interfaces' sources in the background wave (00)
+        sigma = inner.background(from_below)
+        prof = prof + np.einsum("iqk,i->qk", op.fft.to_host(inner.profile[..., 0]), sigma)
+    return np.broadcast_to(prof[:, None, None, :].astype(op.dtype), op.unknown_shape).copy()
 
 
 def _check_energy(res: DiffractionResult, bound: float) -> str | None:
@@ -250,7 +254,8 @@ def solve(cell: Cell, incidence: Incidence, *, tol: float = DEFAULT_TOL, method:
           callback: Callback = None, eps_background: complex | None = None,
           min_loss: float = DEFAULT_MIN_LOSS, z_order: int = 1, dtype: type | None = None,
           workers: int | None = None, polarisation: str = "te",
-          eps_face: complex | None = None, background: Background | None = None,
+          eps_face: "complex | FaceLayers | None" = None,
+          background: Background | None = None,
           fft: str = DEFAULT_FFT, tm_faces: "str | TMFaces" = DEFAULT_TM_FACES
           ) -> DiffractionResult:
     """Diffraction of a unit plane wave by one periodic cell (see solve_prepared, prepare).
