@@ -10,6 +10,8 @@ docs/vector_referee.md.
     python -m benchmarks.bench_vector --knobs          # lmax, plane-wave cutoff, scalar grid
     python -m benchmarks.bench_vector --case 1 --compute 3000   # one case only
     python -m benchmarks.bench_vector --faces          # TM face forms vs the referee (cache)
+    python -m benchmarks.bench_vector --voxel-map 3600 # default tables vs RCWA on the same voxels
+    python -m benchmarks.bench_vector --voxel-map 0 --presets brewster,all,electric-mean
 
 Vector units are cached in out/bench/vector/ (one .npz per realization, λ, σ); the table lists
 what the cache holds and names the units still missing.  `--compute` works through CASES in
@@ -240,6 +242,41 @@ def quick() -> int:
     return 0
 
 
+def voxel_map_study(seconds: float, presets: tuple[str, ...]) -> int:
+    """Print the voxel-grid map (benchmarks/vector/voxel_map.py) and draw its picture."""
+    try:
+        import grcwa  # noqa: F401
+    except ImportError:
+        if seconds > 0:
+            print("grcwa is not installed: pip install -e '.[vector]' (optional extra)", file=sys.stderr)
+            return 2
+    from benchmarks.vector import voxel_map as vm
+
+    t0 = time.monotonic()
+    until = t0 + seconds if seconds > 0 else t0
+    print(f"RCWA (grcwa) vs the default tables' scalar solves on the same voxels: cell "
+          f"{vm.CELL_NM:g} nm, grid {vm.GRID}, λ {vm.WAVELENGTHS} nm, views {vm.VIEWS_DEG}°, "
+          f"pigment bulk ε for Maxwell, local field for the scalar; paper r = 0.9, diffuse light")
+    rows = vm.run(vm.CASES, compute_until=until, presets=presets)
+    views = " ".join(f"{v:>5g}°" for v in vm.VIEWS_DEG)
+    print(f"
+{'case':<22} {'tm_faces':<14} {'pol':<6} ΔE2000 at {views}   max|ΔRbar|  max|ΔTbar|")
+    for row in rows:
+        if row["missing"]:
+            print(f"{row['case']:<22} {row['preset']:<14} (units missing: rerun with more seconds)")
+            continue
+        for k, pol in enumerate(("s", "p", "unpol")):
+            de = " ".join(f"{v:6.2f}" for v in row["de"][pol])
+            print(f"{row['case']:<22} {row['preset']:<14} {pol:<6} {' ' * 10}{de}   "
+                  f"{row['dR'][k]:9.4f}  {row['dT'][k]:9.4f}")
+        per_view = " ".join(f"{v:.4f}" for v in row["dR_by_view"][:, 1])
+        print(f"{'':<22} {'':<14} p: max|ΔRbar| per view {per_view}")
+    vm.picture(rows, Path("out/bench/vector_voxel_map.png"))
+    print(f"
+--voxel-map: {time.monotonic() - t0:.0f} s; picture out/bench/vector_voxel_map.png")
+    return 0
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="python -m benchmarks.bench_vector", description=__doc__.split("\n")[0])
     ap.add_argument("--quick", action="store_true", help="one small unit, both solvers")
@@ -254,7 +291,15 @@ def main(argv: list[str] | None = None) -> int:
                     help="the Mie-matched local fields that were tried, against the cached vector units")
     ap.add_argument("--case", type=int, action="append", metavar="N",
                     help="only case N of CASES (0-based; repeatable), e.g. to compute cases in parallel")
+    ap.add_argument("--voxel-map", type=float, default=None, metavar="SECONDS",
+                    help="the map of the default tables against Maxwell (grcwa's RCWA on the same "
+                         "voxel grid: spheres and cylinders at 15/30/50 %%), computing missing units "
+                         "for at most this long (0: from the cache only)")
+    ap.add_argument("--presets", default="brewster",
+                    help="TM face presets for --voxel-map, comma-separated (default: brewster)")
     args = ap.parse_args(argv)
+    if args.voxel_map is not None:
+        return voxel_map_study(args.voxel_map, tuple(args.presets.split(",")))
     try:
         import treams  # noqa: F401
     except ImportError:
