@@ -1,5 +1,5 @@
-"""Not converged is not a result (issue 22 item 4; docs/wave_solver.md, "Errors"; docs/tables.md,
-"Convergence").
+"""Not converged is not a result (issue 22 item 4; docs/wave_solver.md, "Not converged is not a
+result").
 
     python -m benchmarks.bench_convergence                  # 200 cells at 16×16×8, ~5–15 min on 2 cores
     python -m benchmarks.bench_convergence --count 40 --grid 8 8 4   # a quick look

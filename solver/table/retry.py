@@ -1,5 +1,5 @@
-"""A table's solves are converged or refused: the ladder of stronger settings (docs/tables.md,
-"Convergence").
+"""A table's solves are converged or refused: the ladder of stronger settings
+(docs/wave_solver.md, "Not converged is not a result").
 
 A solve that stops short of its tolerance is not a result (solver.wave raises). A table solve
 then tries the next, stronger setting; when the last one fails too, the cell is refused with
