@@ -259,8 +259,7 @@ def voxel_map_study(seconds: float, presets: tuple[str, ...]) -> int:
           f"pigment bulk ε for Maxwell, local field for the scalar; paper r = 0.9, diffuse light")
     rows = vm.run(vm.CASES, compute_until=until, presets=presets)
     views = " ".join(f"{v:>5g}°" for v in vm.VIEWS_DEG)
-    print(f"
-{'case':<22} {'tm_faces':<14} {'pol':<6} ΔE2000 at {views}   max|ΔRbar|  max|ΔTbar|")
+    print(f"\n{'case':<22} {'tm_faces':<14} {'pol':<6} ΔE2000 at {views}   max|ΔRbar|  max|ΔTbar|")
     for row in rows:
         if row["missing"]:
             print(f"{row['case']:<22} {row['preset']:<14} (units missing: rerun with more seconds)")
@@ -272,8 +271,7 @@ def voxel_map_study(seconds: float, presets: tuple[str, ...]) -> int:
         per_view = " ".join(f"{v:.4f}" for v in row["dR_by_view"][:, 1])
         print(f"{'':<22} {'':<14} p: max|ΔRbar| per view {per_view}")
     vm.picture(rows, Path("out/bench/vector_voxel_map.png"))
-    print(f"
---voxel-map: {time.monotonic() - t0:.0f} s; picture out/bench/vector_voxel_map.png")
+    print(f"\n--voxel-map: {time.monotonic() - t0:.0f} s; picture out/bench/vector_voxel_map.png")
     return 0
 
 
