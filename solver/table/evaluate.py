@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..paper import check_paper_albedo
 from .integrals import diffuse_albedo, hemispherical_mean
 from .interpolation import lerp_weights
 from .schema import InkTable
@@ -38,16 +39,9 @@ def brdf_R_at(table: InkTable, sigma_rad, theta_rad, dphi_rad) -> np.ndarray:
     return out
 
 
-def _paper(table: InkTable, paper) -> np.ndarray:
-    r = np.broadcast_to(np.asarray(paper, dtype=float), table.wavelengths.shape)
-    if not np.all((r >= 0) & (r <= 1)):           # NaN fails too
-        raise ValueError(f"paper albedo must lie in [0, 1], got {paper!r}")
-    return r
-
-
 def multiple_reflection_gain(table: InkTable, paper) -> np.ndarray:
     """r / (1 − r·ρ̄) per wavelength: the paper term's interreflection factor."""
-    r = _paper(table, paper)
+    r = check_paper_albedo(paper, table.wavelengths)
     rho = hemispherical_mean(table.sigma, table.Rbar_below)
     return r / (1.0 - r * rho)
 

@@ -127,3 +127,26 @@ def uniform_angles(count: int) -> tuple[float, ...]:
         raise RequestError(f"--angles is a count of incidence angles from 0° to 90° inclusive, 2 … {MAX_ANGLES}; "
                            f"got {count!r}")
     return tuple(float(s) for s in np.linspace(0.0, np.pi / 2, int(count)))
+
+
+def add_measurement_arguments(parser, geometry_default: str | None = None) -> None:
+    """--geometry, --illuminant, --observer: how a colour is measured (solver.colour.measurement);
+    `geometry_default` None means the command's own default (e.g. the figure model's)."""
+    from solver.colour.cie import ILLUMINANTS, OBSERVERS
+    from solver.colour.measurement import DEFAULT_ILLUMINANT, DEFAULT_OBSERVER, GEOMETRIES
+
+    g = parser.add_argument_group("colour measurement (docs/design.md §7)")
+    g.add_argument("--geometry", default=geometry_default, metavar="GEOMETRY",
+                   help=f"{' | '.join(GEOMETRIES)}: 45:0 = light 45°, view 0°, gloss excluded (ISO 13655); "
+                        "d:8:sci / d:8:sce = sphere, view 8°, specular included / excluded; d:0 = diffuse light, "
+                        "view 0°, the layer's mirror included; paper = the paper's strip (no coherent mirror)"
+                        + ("" if geometry_default else " (default: the model's, 45:0 for the default model)"))
+    g.add_argument("--illuminant", default=DEFAULT_ILLUMINANT, metavar="NAME", help=" | ".join(ILLUMINANTS))
+    g.add_argument("--observer", default=DEFAULT_OBSERVER, metavar="DEG", help=" | ".join(OBSERVERS) + " (degrees)")
+
+
+def measurement_from_args(args, geometry_default: str):
+    """The Measurement the options name (each name checked: one line listing the valid ones)."""
+    from solver.colour.measurement import parse_measurement
+
+    return parse_measurement(args.geometry or geometry_default, args.illuminant, args.observer)
