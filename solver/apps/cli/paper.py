@@ -13,10 +13,12 @@ from __future__ import annotations
 import warnings
 
 from ..figures import FIGURES, FigureSettings, make_figure, parse_columns, parse_rows
+from ..figures.models import DEFAULT_MODEL, MODELS, parse_model
 from solver.table.request import ACCURACY, TIERS
 from solver.table.request_checks import ignored_on_molecular
 from .build import add_run_arguments, options_from_args
-from .parsing import PARTICLE_GRAMMAR, DefaultsFormatter, uniform_angles, wavelength_range, writable_outputs
+from .parsing import (PARTICLE_GRAMMAR, DefaultsFormatter, add_measurement_arguments, measurement_from_args,
+                      uniform_angles, wavelength_range, writable_outputs)
 
 
 def add_parser(sub) -> None:
@@ -32,6 +34,10 @@ def add_parser(sub) -> None:
     p.add_argument("--columns", default=None, metavar="GRAINS",
                    help="particle specs separated by commas, e.g. molecular,sphere:100,cylinder:200:inplane "
                         f"(default: the figure's columns); each molecular or {PARTICLE_GRAMMAR}")
+    p.add_argument("--model", default=DEFAULT_MODEL, choices=tuple(MODELS),
+                   help="paper = the model as published (TE light, bulk pigment ε, the strip without the coherent "
+                        "mirror); default = this project's (unpolarised, local field, every order)")
+    add_measurement_arguments(p)
     p.add_argument("--report", default=None, metavar="OUT.md",
                    help="also test the paper's §3.3 findings on every row/column pair and write them here")
     g = p.add_argument_group("overrides of the preset (quick drafts; every cell gets them)")
@@ -59,7 +65,10 @@ def settings_from_args(args) -> FigureSettings:
                         ("seed", args.seed)):
         if value is not None:
             overrides.append((name, value))
-    return FigureSettings(args.accuracy, tuple(overrides))
+    model = parse_model(args.model)
+    measurement = measurement_from_args(args, model.measurement.geometry.name)
+    return FigureSettings(args.accuracy, tuple(overrides), model,
+                          None if measurement == model.measurement else measurement)
 
 
 def run(args) -> int:
