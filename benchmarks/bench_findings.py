@@ -35,7 +35,6 @@ from solver.apps.figures.findings import VERDICTS, evaluate, summary_table
 from solver.apps.figures.make import duration
 from solver.apps.figures.models import MODELS
 from solver.apps.figures.paper_grid import TITLES
-from solver.apps.figures.records import read_csv
 from solver.colour import measurement as M
 from solver.colour.cie import delta_e2000, saturation
 from solver.paper import PAPER_ALBEDO

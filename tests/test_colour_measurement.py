@@ -12,7 +12,7 @@ import oracles
 from conftest import diffuse_layer_table
 from solver.colour import measurement as M
 from solver.colour import srgb
-from solver.colour.cie import (OBSERVERS, ColourError, delta_e2000, spectra_to_lab, spectra_to_xyz, tristimulus_weights, white_xyz,
+from solver.colour.cie import (OBSERVERS, ColourError, delta_e2000, spectra_to_lab, spectra_to_xyz, white_xyz,
                                xyz_to_lab)
 from solver.inks import molecular_eps, parse_ink
 from solver.table.evaluate import brdf_R_at, column_at, directional_albedo

@@ -1,6 +1,5 @@
 """Energy of the ink-on-paper BRDF (numpy reference evaluator) and colour conversion."""
 
-import colour
 import numpy as np
 import pytest
 

@@ -18,7 +18,6 @@ from solver.colour import measurement as M
 from solver.colour.cie import saturation
 from solver.colour.srgb import spectra_to_srgb8
 from solver.colour.table_colour import SE_COLUMNS, lab_jacobian, node_errors, propagate_se, table_colour
-from solver.geometry.spec import parse_particles
 from solver.inks import parse_ink
 from solver.table.evaluate import diffuse_brdf
 from solver.table.thinfilm_tier import build_thinfilm_table

@@ -17,10 +17,9 @@ from __future__ import annotations
 import argparse
 import re
 import sys
-import warnings
 from pathlib import Path
 
-from solver.apps.cli.parsing import DefaultsFormatter, OneLineParser, writable_output
+from solver.apps.cli.parsing import DefaultsFormatter, OneLineParser, run_guarded, writable_output
 from solver.paper import PAPER_ALBEDO, check_paper_albedo
 
 MARGIN_CM = 1.5                     # white paper around the print on its sheet
@@ -135,19 +134,7 @@ def _sheet_transform(stage) -> str:
 
 def main(argv=None) -> int:
     """The command; returns the exit status (2: bad input, told in one line on stderr)."""
-    with warnings.catch_warnings():
-        warnings.showwarning = lambda message, *a, **k: print(f"warning: {message}", file=sys.stderr)
-        try:
-            return _main(argv)
-        except ValueError as exc:      # UsageError, ImageError, DotsError, a refused table request
-            print(f"error: {exc}", file=sys.stderr)
-            return 2
-        except OSError as exc:
-            print(f"error: {exc.filename or ''}: {exc.strerror or exc}", file=sys.stderr)
-            return 2
-        except KeyboardInterrupt:
-            print("\ninterrupted (Ctrl-C): stopped", file=sys.stderr)
-            return 130
+    return run_guarded(lambda: _main(argv), interrupted="\ninterrupted (Ctrl-C): stopped")
 
 
 def _main(argv) -> int:

@@ -35,6 +35,7 @@ from functools import lru_cache
 import numpy as np
 
 from ..paper import check_paper_albedo
+from ..table.eq4 import paper_gain
 from ..table.integrals import azimuth_weights, band_weights, cosine_weights, hemispherical_mean
 from ..table.interpolation import lerp_weights
 from .cie import ColourError, check_illuminant, check_observer, check_range, spectra_to_lab, spectra_to_xyz
@@ -146,7 +147,7 @@ class Measurement:
         Rbar_below = table.Rbar_below if Rbar_below is None else Rbar_below
         R = table.R if R is None else R
         r = check_paper_albedo(paper, table.wavelengths)
-        gain = r / (1.0 - r * hemispherical_mean(table.sigma, Rbar_below))
+        gain = paper_gain(r, hemispherical_mean(table.sigma, Rbar_below))
         out = gain * (Tbar @ g.light.weights(table.sigma)) * (Tbar @ g.view.weights(table.sigma))
         if table.has_diffuse or R is not table.R:
             out = out + np.einsum("lstp,stp->l", R, self.r_weights(table))

@@ -9,6 +9,7 @@ import math
 import os
 import sys
 import tempfile
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -25,6 +26,44 @@ PARTICLE_GRAMMAR = ("sphere:D[:agglutinated[=kT]][:rough[=f]][:spread=σ] | "
 def print_warning(message, category=None, filename=None, lineno=None, file=None, line=None) -> None:
     """`warnings.showwarning` of the commands: one `warning: …` line on stderr, no source line."""
     print(f"warning: {message}", file=sys.stderr)
+
+
+def os_error_text(exc: OSError) -> str:
+    """An OSError as one line: what went wrong, and the file."""
+    return f"{exc.strerror or exc}: {exc.filename}" if exc.filename else str(exc.strerror or exc)
+
+
+def run_guarded(work, prefix: str = "", interrupted: str | None = None) -> int:
+    """The commands' one wrapper (`ink-tables`, `python -m inkbsdf.print`, `… render`): run
+    `work()` (→ exit status) with each warning said as one `warning: …` line, bad input (a
+    ValueError: requests, specs, tables, images, usage) and file problems (OSError) as one
+    `PREFIX: error: …` line and exit 2, an interrupt as the line `interrupted` and exit 130 (None:
+    the caller handles interrupts), a closed output pipe quietly (`… | head`), memory exhausted
+    as one line and exit 1. Anything else is a bug and keeps its traceback."""
+    lead = f"{prefix}: error:" if prefix else "error:"
+    with warnings.catch_warnings():
+        warnings.showwarning = print_warning
+        try:
+            return int(work() or 0)
+        except KeyboardInterrupt:
+            if interrupted is None:
+                raise
+            print(interrupted, file=sys.stderr)
+            return 130
+        except BrokenPipeError:
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+            return 0
+        except MemoryError as exc:                  # e.g. a build forced past the preflight's estimate
+            first = str(exc).splitlines()[0] if str(exc) else "out of memory"
+            print(f"{lead} ran out of memory ({first}); use coarser settings (--grid, --wavelengths, "
+                  "--angles) or fewer --workers", file=sys.stderr)
+            return 1
+        except ValueError as exc:
+            print(f"{lead} {exc}", file=sys.stderr)
+            return 2
+        except OSError as exc:                      # read-only folder, full disk, missing file
+            print(f"{lead} {os_error_text(exc)}", file=sys.stderr)
+            return 2
 
 
 class OneLineParser(argparse.ArgumentParser):
