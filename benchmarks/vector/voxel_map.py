@@ -12,7 +12,7 @@ Per case (an ink and its grains, as a table request of the project), realization
 The colour is docs/design.md eq. (4) on paper r = 0.9 under diffuse light (compare.py: the
 same reduction for both solvers), ΔE2000 of the unpolarised ink at each view θ = σ node.
 
-Cost (2-core VM, one BLAS thread): an 800-nm cell on 24 × 24 × 32 voxels (33 × 33 × 31 nm,
+Cost (2-core VM, one BLAS thread): a 790-nm cell on 24 × 24 × 32 voxels (33 × 33 × 31 nm,
 the tables' default voxel), 69 RCWA orders: ≈ 3–8 s per (λ, σ) for both polarisations; the
 scalar solves ≈ 0.2 s each.  Units are cached in out/bench/vector_voxel/.
 """
@@ -37,11 +37,11 @@ from .compare import Ensemble, albedo_on_paper, delta_e2000, lab_of
 from .rcwa_layer import rcwa_rt
 
 CACHE = Path("out/bench/vector_voxel")
-WAVELENGTHS = (405.0, 430.0, 460.0, 490.0, 520.0, 560.0, 620.0, 680.0)
+WAVELENGTHS = (400.0, 430.0, 460.0, 490.0, 520.0, 560.0, 620.0, 700.0)   # a colour: 400–700
 VIEWS_DEG = (0.0, 30.0, 45.0, 60.0, 75.0)
-CELL_NM, GRID = 800.0, (24, 24, 32)
-#: (not 400 nm: order (2, 0) of the 800-nm cell grazes at normal incidence, k_z = 0, where
-#: grcwa's uniform layers are singular)
+#: 790 nm, not 800: order (2, 0) of an 800-nm cell grazes at 400 nm and normal incidence
+#: (k_z = 0 exactly), where grcwa's uniform layers are singular
+CELL_NM, GRID = 790.0, (24, 24, 32)
 
 
 @dataclass(frozen=True)
@@ -69,7 +69,8 @@ CASES = tuple(MapCase(f"Y{c}", p) for p in ("sphere:200", "cylinder:100") for c 
 
 
 def _path(case: MapCase, solver: str, r: int, lam: float, sig: float) -> Path:
-    return CACHE / case.key / f"{solver}_r{r}_l{lam:g}_s{sig:g}.npz"
+    grid = "x".join(map(str, GRID))
+    return CACHE / f"{case.key}_cell{CELL_NM:g}_{grid}" / f"{solver}_r{r}_l{lam:g}_s{sig:g}.npz"
 
 
 def _scalar(req, vox, lam: float, sig: float, preset: str) -> np.ndarray:
