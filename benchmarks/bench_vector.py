@@ -12,6 +12,7 @@ docs/vector_referee.md.
     python -m benchmarks.bench_vector --faces          # TM face forms vs the referee (cache)
     python -m benchmarks.bench_vector --voxel-map 3600 # default tables vs RCWA on the same voxels
     python -m benchmarks.bench_vector --voxel-map 0 --presets brewster,all,electric-mean
+    python -m benchmarks.bench_vector --lamellae       # TM across lamellae: the local field's direction
 
 Vector units are cached in out/bench/vector/ (one .npz per realization, λ, σ); the table lists
 what the cache holds and names the units still missing.  `--compute` works through CASES in
@@ -295,7 +296,16 @@ def main(argv: list[str] | None = None) -> int:
                          "for at most this long (0: from the cache only)")
     ap.add_argument("--presets", default="brewster",
                     help="TM face presets for --voxel-map, comma-separated (default: brewster)")
+    ap.add_argument("--lamellae", action="store_true",
+                    help="lamellar gratings in TM against RCWA: bulk ε and local fields by field "
+                         "direction (~3 min)")
     args = ap.parse_args(argv)
+    if args.lamellae:
+        from benchmarks.vector import lamellae
+        t0 = time.monotonic()
+        lamellae.print_study(lamellae.study())
+        print(f"\n--lamellae: {time.monotonic() - t0:.0f} s")
+        return 0
     if args.voxel_map is not None:
         return voxel_map_study(args.voxel_map, tuple(args.presets.split(",")))
     try:
