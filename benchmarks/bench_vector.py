@@ -243,7 +243,7 @@ def quick() -> int:
     return 0
 
 
-def voxel_map_study(seconds: float, presets: tuple[str, ...]) -> int:
+def voxel_map_study(seconds: float, presets: tuple[str, ...], realizations: int = 1) -> int:
     """Print the voxel-grid map (benchmarks/vector/voxel_map.py) and draw its picture."""
     try:
         import grcwa  # noqa: F401
@@ -257,8 +257,9 @@ def voxel_map_study(seconds: float, presets: tuple[str, ...]) -> int:
     until = t0 + seconds if seconds > 0 else t0
     print(f"RCWA (grcwa) vs the default tables' scalar solves on the same voxels: cell "
           f"{vm.CELL_NM:g} nm, grid {vm.GRID}, λ {vm.WAVELENGTHS} nm, views {vm.VIEWS_DEG}°, "
-          f"pigment bulk ε for Maxwell, local field for the scalar; paper r = 0.9, diffuse light")
-    rows = vm.run(vm.CASES, compute_until=until, presets=presets)
+          f"pigment bulk ε for Maxwell, local field for the scalar; paper r = 0.9, diffuse light; "
+          f"{realizations} realization(s) per case, incidence azimuth 0")
+    rows = vm.run(vm.cases(realizations), compute_until=until, presets=presets)
     views = " ".join(f"{v:>5g}°" for v in vm.VIEWS_DEG)
     print(f"\n{'case':<22} {'tm_faces':<14} {'pol':<6} ΔE2000 at {views}   max|ΔRbar|  max|ΔTbar|")
     for row in rows:
@@ -294,6 +295,8 @@ def main(argv: list[str] | None = None) -> int:
                     help="the map of the default tables against Maxwell (grcwa's RCWA on the same "
                          "voxel grid: spheres and cylinders at 15/30/50 %%), computing missing units "
                          "for at most this long (0: from the cache only)")
+    ap.add_argument("--realizations", type=int, default=1,
+                    help="realizations per case of --voxel-map (default 1)")
     ap.add_argument("--presets", default="brewster",
                     help="TM face presets for --voxel-map, comma-separated (default: brewster)")
     ap.add_argument("--lamellae", action="store_true",
@@ -307,7 +310,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"\n--lamellae: {time.monotonic() - t0:.0f} s")
         return 0
     if args.voxel_map is not None:
-        return voxel_map_study(args.voxel_map, tuple(args.presets.split(",")))
+        return voxel_map_study(args.voxel_map, tuple(args.presets.split(",")), args.realizations)
     try:
         import treams  # noqa: F401
     except ImportError:

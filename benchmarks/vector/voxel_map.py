@@ -65,7 +65,13 @@ class MapCase:
                              realizations=self.realizations)
 
 
-CASES = tuple(MapCase(f"Y{c}", p) for p in ("sphere:200", "cylinder:100") for c in (15, 30, 50))
+def cases(realizations: int = 1) -> tuple[MapCase, ...]:
+    """Spheres of 200 nm and isotropic cylinders of 100 nm, pigment Y at 15, 30, 50 %."""
+    return tuple(MapCase(f"Y{c}", p, realizations) for p in ("sphere:200", "cylinder:100")
+                 for c in (15, 30, 50))
+
+
+CASES = cases()
 
 
 def _path(case: MapCase, solver: str, r: int, lam: float, sig: float) -> Path:
