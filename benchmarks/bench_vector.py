@@ -13,6 +13,7 @@ docs/vector_referee.md.
     python -m benchmarks.bench_vector --voxel-map 3600 # default tables vs RCWA on the same voxels
     python -m benchmarks.bench_vector --voxel-map 0 --presets brewster,all,electric-mean
     python -m benchmarks.bench_vector --lamellae       # TM across lamellae: the local field's direction
+    python -m benchmarks.bench_vector --tm-oblique     # the oblique TM error per face form (~3 min)
 
 Vector units are cached in out/bench/vector/ (one .npz per realization, λ, σ); the table lists
 what the cache holds and names the units still missing.  `--compute` works through CASES in
@@ -302,7 +303,15 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--lamellae", action="store_true",
                     help="lamellar gratings in TM against RCWA: bulk ε and local fields by field "
                          "direction (~3 min)")
+    ap.add_argument("--tm-oblique", action="store_true",
+                    help="the oblique TM error of a dilute sphere layer against RCWA, per face preset")
     args = ap.parse_args(argv)
+    if args.tm_oblique:
+        from benchmarks.vector import voxel_map
+        t0 = time.monotonic()
+        voxel_map.oblique_study()
+        print(f"\n--tm-oblique: {time.monotonic() - t0:.0f} s")
+        return 0
     if args.lamellae:
         from benchmarks.vector import lamellae
         t0 = time.monotonic()

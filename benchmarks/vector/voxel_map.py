@@ -182,3 +182,25 @@ def picture(rows: list[dict], path: Path) -> None:
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=110)
     plt.close(fig)
+
+
+#: the oblique TM study (issue 22 item 2): a dilute layer of 200-nm Y spheres (≈ 10 %), a
+#: transparent and an absorbing wavelength, σ from below to beyond Brewster's angle (≈ 57°)
+OBLIQUE_CASE = MapCase("Y10", "sphere:200")
+OBLIQUE_PRESETS = ("brewster", "electric-propagating", "electric", "all")
+
+
+def oblique_study(wavelengths=(700.0, 470.0), angles=(30.0, 50.0, 60.0, 70.0),
+                  presets=OBLIQUE_PRESETS) -> None:
+    """p-polarised R, T of Maxwell (RCWA) and the scalar TM error per face preset: which face
+    form of which class of harmonics carries the oblique error."""
+    print(f"oblique TM: {OBLIQUE_CASE.label}, cell {CELL_NM:g} nm, grid {GRID}, realization 0, "
+          f"azimuth 0; Δ = scalar TM (local field, preset) − Maxwell p")
+    for lam in wavelengths:
+        for sig in angles:
+            vec = unit(OBLIQUE_CASE, "rcwa", 0, lam, sig)
+            line = f"λ {lam:g} σ {sig:g}: Maxwell p R {vec[0, 1]:.4f} T {vec[1, 1]:.4f}"
+            for preset in presets:
+                sca = unit(OBLIQUE_CASE, f"scalar:{preset}", 0, lam, sig)
+                line += f" | {preset}: ΔR {sca[0, 1] - vec[0, 1]:+.4f} ΔT {sca[1, 1] - vec[1, 1]:+.4f}"
+            print(line, flush=True)
