@@ -14,6 +14,7 @@ docs/vector_referee.md.
     python -m benchmarks.bench_vector --voxel-map 0 --presets brewster,all,electric-mean
     python -m benchmarks.bench_vector --lamellae       # TM across lamellae: the local field's direction
     python -m benchmarks.bench_vector --tm-oblique     # the oblique TM error per face form (~3 min)
+    python -m benchmarks.bench_vector --rcwa-validate  # the RCWA referee's checks (~1 min)
 
 Vector units are cached in out/bench/vector/ (one .npz per realization, λ, σ); the table lists
 what the cache holds and names the units still missing.  `--compute` works through CASES in
@@ -305,7 +306,20 @@ def main(argv: list[str] | None = None) -> int:
                          "direction (~3 min)")
     ap.add_argument("--tm-oblique", action="store_true",
                     help="the oblique TM error of a dilute sphere layer against RCWA, per face preset")
+    ap.add_argument("--rcwa-validate", action="store_true",
+                    help="the RCWA referee's checks: exact film, lamellar grating s = scalar TE")
     args = ap.parse_args(argv)
+    if args.rcwa_validate:
+        from benchmarks.vector import rcwa_layer
+        from solver.wave.vecops import one_blas_thread
+        with one_blas_thread():
+            print(f"homogeneous 1000-nm film (1.82 + 1.06i, 450 nm, 0–80°, s and p) vs the exact film: "
+                  f"max |ΔR|, |ΔT| = {rcwa_layer.film_check():.1e}")
+            for nx in (24, 32):
+                for deg, orders, r_s, r_te, t_s, t_te in rcwa_layer.grating_check(nx):
+                    print(f"lamellar grating, {nx}×{nx}×16 voxels, σ {deg:g}°, {orders} orders: R_s {r_s:.5f} "
+                          f"vs scalar TE {r_te:.5f}, T_s {t_s:.5f} vs {t_te:.5f}")
+        return 0
     if args.tm_oblique:
         from benchmarks.vector import voxel_map
         t0 = time.monotonic()
