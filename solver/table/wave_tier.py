@@ -37,8 +37,7 @@ import numpy as np
 from ..geometry import LayerSpec, eps_grid, generate, voxelize
 from ..geometry.stacking import split_cells, stack_voxels, uniform_layer
 from ..inks import molecular_eps
-from ..wave import Cell, prepare, solve_prepared
-from ..wave.interfaces import FaceLayers
+from ..wave import Cell, FaceLayers, prepare, solve_prepared
 from .orders_to_brdf import fold_dphi, spread_orders
 from .request import TableRequest
 from .retry import converged_solve
