@@ -135,7 +135,7 @@ def speed_case(case, seed=1):
         p = real.stats.pack
         print(f"  packer: {p.iterations} iterations, {p.rebuilds} list builds, escapes {p.escapes}, "
               f"{p.seconds:.2f} s; RSA {real.stats.rsa_tries} tries at size x{real.stats.rsa_scale:.3f}")
-    if real.shape == "cylinder":
+    if real.shape.oriented:
         print(f"  <|a_z|> = {np.mean(np.abs(real.axes[:, 2])):.3f}")
     print(f"  grid pigment volume / particle volume - 1 = {grid_volume / exact - 1:+.2e}; "
           f"overlapping pairs {len(find_overlaps(real))}")
@@ -244,7 +244,7 @@ def limit_case(particles, cell, ladder, thickness=1000.0, seed=1):
         except ValueError:
             ok = False
         extra = ""
-        if ok and grains.bodies.shape == "cylinder":
+        if ok and grains.bodies.shape.oriented:
             extra = (f", <|a_z|> {np.mean(np.abs(placed.axes[:, 2])):.3f} "
                      f"(drawn {np.mean(np.abs(grains.bodies.axes[:, 2])):.3f})")
         print(f"  {particles:30s} {100 * phi:5.1f}%: {'reached' if ok else 'NOT reached'} "

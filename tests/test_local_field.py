@@ -11,7 +11,7 @@ from scipy.integrate import quad
 
 from solver.geometry import eps_grid, parse_particles
 from solver.geometry.depolarisation import local_field_of, mean_axis_z_squared, spheroid_axial_factor
-from solver.geometry.shapes import sample_orientations
+from solver.geometry.orientation import sample_orientations
 from solver.geometry.stacking import split_cells
 from solver.materials import SPHERE_FIELD, LocalField, default_materials, local_field_eps
 from solver.table.request import table_request

@@ -13,7 +13,7 @@ from solver.table.cache import TableCache
 from solver.table.executor import default_workers
 from solver.table.request import (ACCURACY, DEFAULT_POLARISATION, DEFAULT_THICKNESS_NM, POLARISATIONS, TIERS,
                              TableRequest, WaveSettings, table_request)
-from .parsing import PARTICLE_GRAMMAR, DefaultsFormatter, uniform_angles, wavelength_range, writable_output
+from .parsing import PARTICLE_GRAMMAR, PARTICLE_GRAMMAR_KEY, DefaultsFormatter, uniform_angles, wavelength_range, writable_output
 
 log = logging.getLogger("ink-tables")
 _WAVE = WaveSettings()
@@ -34,8 +34,7 @@ def add_request_arguments(p: argparse.ArgumentParser, ink_required: bool = True)
     p.add_argument("--ink", required=ink_required,
                    help="ink spec in volume percent: R15, Y7.5+B7.5, G30, clear; 'Y15/B15' prints Y15 over B15")
     p.add_argument("--particles", default="molecular",
-                   help=f"molecular | {PARTICLE_GRAMMAR} (D = (effective) diameter in nm; cylinders isotropic by "
-                        "default; σ of ln D; kT well depth; f protruding fraction); 'a/b' per layer of a stack")
+                   help=f"molecular | {PARTICLE_GRAMMAR} ({PARTICLE_GRAMMAR_KEY}); 'a/b' per layer of a stack")
     p.add_argument("--thickness", default=None, metavar="NM[,NM…]",
                    help="layer thickness in nm: one value for every layer, or one per layer of a stack, top "
                         f"first, e.g. 800,1000 (default {DEFAULT_THICKNESS_NM:g} each)")
