@@ -89,6 +89,23 @@ def test_contact_solve_respects_the_walls():
     assert np.linalg.norm(new[1] - new[0]) >= 20.0 - 1e-4
 
 
+def test_contact_solve_with_candidate_rows_and_no_wall_rows():
+    """Kink rows that join only when violated (primary False) and no one-particle rows at all
+    (in-plane rods of an agglutinated layer away from the walls): the active-set round still
+    solves, and the row that joins is satisfied too."""
+    normal = np.array([[1.0, 0.0, 0.0], [1.0, 0.0, 0.0]])
+    lever = np.array([[0.0, 0.0, 5.0], [0.0, 0.0, -5.0]])
+    rows = Contacts(np.array([0, 0]), np.array([1, 1]), normal, np.array([-2.0, -4.0]), lever, -lever,
+                    primary=np.array([True, False]))
+    empty = BodyRows(np.zeros(0, dtype=int), np.zeros((0, 3)), None, np.zeros(0))
+    moves = solve_contacts(rows, empty, np.ones(2), np.full(2, 0.01), 0.5, sweeps=2000, tolerance_nm=1e-4)
+    assert moves.residual_nm <= 1e-3
+    du = moves.shift_nm[1] - moves.shift_nm[0]
+    for k in range(2):
+        predicted = rows.gap_nm[k] + normal[k] @ du + lever[k] @ (-moves.turn[1] - moves.turn[0])
+        assert predicted >= 0.5 - 1e-3
+
+
 @pytest.mark.parametrize("seed", [0, 1])
 def test_linearised_rotation_rows_predict_small_turns(seed):
     """In-plane rods turning about z: the candidate rows (both ends of a side contact) bound the
