@@ -6,6 +6,7 @@
     python -m benchmarks.bench_geometry --cost             # geometry_cost's estimates against measurements
     python -m benchmarks.bench_geometry --limits           # search the reachable concentrations (slow)
     python -m benchmarks.bench_geometry --variants         # the packer's alternatives tried and dropped
+    python -m benchmarks.bench_geometry --skip-speed --limits --only spheroid   # cases whose spec contains TEXT
 
 Per speed case: seconds for placement (`generate`) and voxelisation separately (wall clock and
 process CPU), particle count, achieved fractions, relative error of the grid's pigment volume,
@@ -57,6 +58,11 @@ COST_CASES = [
     ("B50", "cylinder:100:inplane", 1000.0), ("B30", "cylinder:100:vertical", 2000.0),
     ("B50", "cylinder:100:vertical", 1000.0), ("B30", "cylinder:200:isotropic", 2000.0),
     ("B30", "cylinder:300:inplane", 2000.0), ("Y7.5+B7.5", "sphere:100:agglutinated", 1000.0),
+    ("B15", "spheroid:100:aspect=3", 2000.0), ("B30", "spheroid:100:aspect=3", 2000.0),
+    ("B50", "spheroid:100:aspect=3", 1000.0), ("B30", "spheroid:100:aspect=3:inplane", 2000.0),
+    ("B50", "spheroid:100:aspect=3:inplane", 1000.0), ("B30", "spheroid:100:aspect=3:vertical", 2000.0),
+    ("B50", "spheroid:100:aspect=3:vertical", 1000.0), ("B30", "spheroid:200:aspect=0.25:vertical", 2000.0),
+    ("Y7.5+B7.5", "spheroid:100:aspect=3:agglutinated", 1000.0),
 ]
 
 LIMIT_CASES = [
@@ -74,6 +80,15 @@ LIMIT_CASES = [
     ("cylinder:100:inplane:tilt=15", 1000.0, (0.50, 0.55)),
     ("cylinder:100:vertical:tilt=15", 1000.0, (0.45, 0.50)),
     ("cylinder:300:vertical:tilt=15", 2000.0, (0.38, 0.40, 0.42, 0.44)),
+    ("spheroid:100:aspect=4", 1000.0, (0.50, 0.55, 0.58)),
+    ("spheroid:100:aspect=4:inplane", 1000.0, (0.50, 0.55, 0.58)),
+    ("spheroid:100:aspect=4:vertical", 1000.0, (0.50, 0.55, 0.58)),
+    ("spheroid:100:aspect=0.25", 1000.0, (0.50, 0.55, 0.58)),
+    ("spheroid:100:aspect=0.25:inplane", 1000.0, (0.50, 0.55, 0.58)),
+    ("spheroid:100:aspect=0.25:vertical", 1000.0, (0.50, 0.55, 0.58)),
+    ("spheroid:300:aspect=4", 2000.0, (0.45, 0.50, 0.55)),
+    ("spheroid:300:aspect=4:vertical", 2000.0, (0.40, 0.45, 0.50)),
+    ("spheroid:300:aspect=0.25:vertical", 2000.0, (0.45, 0.50, 0.55)),
 ]
 
 #: Runs one speed case with whatever `solver.geometry` is first on the path (public API only).
@@ -155,7 +170,7 @@ def compare(baseline_rev: str | None):
         print(f"{'case':40s} " + "  ".join(f"{name + ': place / cpu / voxelise / peak (generate) / grid err':65s}"
                                            for name, _ in trees)
               + ("  ratio old/new (place, total)" if baseline_rev else ""))
-        for case in SPEED_CASES:
+        for case in selected(SPEED_CASES, 1):
             rows = []
             for _, path in trees:
                 timed = run_case(path, case, trace=False)
@@ -176,7 +191,7 @@ def cost_cases():
     """geometry_cost's estimates against measured time and traced peak memory."""
     print(f"{'case':50s} {'grains (est/made)':>18s} {'seconds (est/meas)':>20s} {'peak MiB (est/meas)':>20s}")
     worst_t, worst_m = 1.0, 1.0
-    for ink, particles, cell in COST_CASES:
+    for ink, particles, cell in selected(COST_CASES, 1):
         layer = LayerSpec(parse_ink(ink), parse_particles(particles), 1000.0, (cell, cell))
         for grid in ((64, 64, 32), GRID):
             est = geometry_cost(layer, grid)
@@ -217,7 +232,7 @@ VARIANT_CASES = [
 
 def variant_cases():
     """Placement alone with one knob changed: iterations, seconds, converged."""
-    for ink, particles, cell, label, overrides, start in VARIANT_CASES:
+    for ink, particles, cell, label, overrides, start in selected(VARIANT_CASES, 1):
         layer = LayerSpec(parse_ink(ink), parse_particles(particles), 1000.0, (cell, cell))
         grains = draw_grains(layer, 1)
         options = PackOptions(**dict({"max_iterations": 1500}, **overrides))
@@ -229,6 +244,15 @@ def variant_cases():
             outcome = f"NOT converged in {options.max_iterations} iterations"
         print(f"  {ink + ' ' + particles + f' {cell:g} nm':38s} {label:45s} {outcome:34s} "
               f"{time.perf_counter() - t0:6.2f} s", flush=True)
+
+
+#: `--only TEXT`: run only the cases whose particle spec contains TEXT (None: all)
+ONLY: list[str | None] = [None]
+
+
+def selected(cases, column: int) -> list:
+    """The cases whose particle spec (at `column`) contains the --only text."""
+    return [c for c in cases if ONLY[0] is None or ONLY[0] in c[column]]
 
 
 def limit_case(particles, cell, ladder, thickness=1000.0, seed=1):
@@ -265,11 +289,13 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--limits", action="store_true", help="also search the reachable concentrations")
     parser.add_argument("--variants", action="store_true", help="time the packer's dropped alternatives")
     parser.add_argument("--skip-speed", action="store_true", help="no speed cases")
+    parser.add_argument("--only", metavar="TEXT", help="only the cases whose particle spec contains TEXT")
     args = parser.parse_args([] if argv is None else argv)
+    ONLY[0] = args.only
     if not args.skip_speed:
         print(f"== speed: generate + voxelize {GRID}, seed 1 (budgets: spheres placement + voxelisation "
               f"10 s, cylinders placement {CYLINDER_BUDGET_S:g} s)")
-        for case in SPEED_CASES:
+        for case in selected(SPEED_CASES, 1):
             speed_case(case)
         print("== timings in fresh processes (wall / CPU of placement, voxelisation, peak traced memory)")
         compare(args.baseline)
@@ -281,7 +307,7 @@ def main(argv: list[str] | None = None) -> int:
         variant_cases()
     if args.limits:
         print("== reachable concentrations (thickness 1000 nm)")
-        for particles, cell, ladder in LIMIT_CASES:
+        for particles, cell, ladder in selected(LIMIT_CASES, 0):
             limit_case(particles, cell, ladder)
     return 0
 

@@ -11,9 +11,10 @@ from ..grammar import ParticleSpecError
 from .base import Shape
 from .cylinder import Cylinder
 from .sphere import Sphere
+from .spheroid import Spheroid
 
 #: every particle shape, by its grammar word
-SHAPES: dict[str, type[Shape]] = {shape.name: shape for shape in (Sphere, Cylinder)}
+SHAPES: dict[str, type[Shape]] = {shape.name: shape for shape in (Sphere, Cylinder, Spheroid)}
 
 
 def shape_class(name: str, spec: str | None = None) -> type[Shape]:
