@@ -28,7 +28,8 @@ from pathlib import Path
 
 import numpy as np
 
-from solver.apps.figures.cell_colour import cell_colour, lab_jacobian, node_errors, propagate_se
+from solver.colour.table_colour import lab_jacobian, node_errors, propagate_se, table_colour
+from solver.paper import PAPER_ALBEDO
 from solver.apps.figures.cells import CellResult, FigureSettings, plan_cells
 from solver.apps.figures.fig6 import DPHI_SAMPLES, azimuth_averaged, figure6, pixel_angles_rad
 from solver.apps.figures.layout import CellGeometry
@@ -69,9 +70,9 @@ def se_check(cache: TableCache) -> None:
     for seed in range(1, SE_SEEDS + 1):
         table = build_table(table_request(ink, particles, seed=seed, **SE_SETTINGS),
                             BuildOptions(progress=False, cache=cache))
-        labs.append(cell_colour(table).lab)
-        errors, _ = node_errors(table)
-        jac = lab_jacobian(table)
+        labs.append(table_colour(table, PAPER_ALBEDO).lab)
+        errors, _, _ = node_errors(table)
+        jac = lab_jacobian(table, PAPER_ALBEDO)
         for mode in se:
             se[mode].append(propagate_se(jac, errors, mode))
     spread = np.std(labs, axis=0, ddof=1)
@@ -100,7 +101,7 @@ def drawing(cache: TableCache) -> None:
         per_cell = (time.perf_counter() - t0) / 5
         t0 = time.perf_counter()
         for _ in range(5):
-            cell_colour(table)
+            table_colour(table, PAPER_ALBEDO)
         print(f"   {name:9s} ({table.wavelengths.size} λ × {table.sigma.size} σ × {table.dphi.size} Δφ): Fig. 6 cell "
               f"{1000 * per_cell:.0f} ms, colour + SE {1000 * (time.perf_counter() - t0) / 5:.0f} ms")
     view, dphi = pixel_angles_rad(g.square), np.linspace(0.0, np.pi, DPHI_SAMPLES)
@@ -120,8 +121,8 @@ def drawing(cache: TableCache) -> None:
         Column("molecular", c.group, c.sub) for c in columns), FigureSettings("default"))]
     OUT.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
-    _, _, pictures = evaluate_cells(results, g)
-    layout = draw_grid_figure("fig7", rows, columns, pictures, "default", OUT / "fig7_layout.png", g)
+    _, _, pictures = evaluate_cells(results, g, FigureSettings())
+    layout = draw_grid_figure("fig7", rows, columns, pictures, FigureSettings(), OUT / "fig7_layout.png", g)
     print(f"   a full Fig. 7 (21 × 17 cells, the particle table in each; with each cell's colour + SE): {time.perf_counter() - t0:.1f} s, "
           f"{layout.size[0]} × {layout.size[1]} px: {OUT / 'fig7_layout.png'}")
 
@@ -134,7 +135,7 @@ PRESET_CELLS = (("R30", "sphere:100"), ("Y7.5+B7.5", "sphere:300"), ("B30", "cyl
 def preset_errors() -> None:
     """Each accuracy preset's colour against `fine` (ΔE2000 of the CSV's colour: D65, paper 0.9,
     diffuse light, 0° view) and its build time, on PRESET_CELLS."""
-    from solver.apps.separation.colour_space import delta_e2000
+    from solver.colour.cie import delta_e2000
     from solver.table.builder import get_or_build
 
     print("\n4. accuracy presets against fine (ΔE2000 of the cell colour; build seconds from an empty cache, "
@@ -149,7 +150,7 @@ def preset_errors() -> None:
                                            BuildOptions(workers=2, progress=False, cache=cache))
             times[accuracy] = (time.perf_counter() - t0 if built
                                else sum(table.meta.get("timings_s", {}).values()))
-            colours[accuracy] = cell_colour(table)
+            colours[accuracy] = table_colour(table, PAPER_ALBEDO)
         fine = colours["fine"]
         cells = [f"ΔE {float(delta_e2000(colours[a].lab, fine.lab)):5.2f}, {times[a]:6.0f} s" for a in ACCURACY]
         print(f"   {ink + ' ' + particles:32s} " + "  ".join(f"{c:>22s}" for c in cells)
@@ -179,7 +180,7 @@ STEP_PAIRS = (("molecular", "sphere:300"), ("sphere:100", "sphere:200"), ("molec
 def map_steps(csv_path: Path = Path("docs/data/fig7_preview.csv")) -> None:
     """The map's own colour steps between columns (ΔE2000 over the rows of a figure CSV), the
     scale the presets' errors are judged against."""
-    from solver.apps.separation.colour_space import delta_e2000
+    from solver.colour.cie import delta_e2000
 
     lab = _csv_lab(csv_path)
     print(f"\n6. the map's steps between columns, ΔE2000 over the rows ({csv_path}):")
@@ -198,7 +199,7 @@ def _csv_lab(path: Path) -> dict:
 def preview_vs_default(preview: Path = Path("docs/data/fig7_preview.csv"),
                        default: Path = Path("docs/data/fig7_default_R15.csv")) -> None:
     """ΔE2000 between the cells a `default` CSV shares with the `preview` one."""
-    from solver.apps.separation.colour_space import delta_e2000
+    from solver.colour.cie import delta_e2000
 
     a, b = _csv_lab(preview), _csv_lab(default)
     common = sorted(set(a) & set(b))

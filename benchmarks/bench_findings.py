@@ -1,106 +1,179 @@
-"""The paper's findings (§3.3, DESIGN §6) reproduced with reduced-accuracy tables (a study).
+"""The paper's findings tested under both models, and what the project's own choices change
+(issue 20; docs/findings.md, docs/figures.md).
 
-    python -m benchmarks.bench_findings      # ~10–15 min on 2 cores
+    python -m benchmarks.bench_findings                      # Fig. 7, 8, 9 at preview, both models
+    python -m benchmarks.bench_findings --figures fig8,fig9  # a part
+    python -m benchmarks.bench_findings --rows R15,G15 --columns molecular,sphere:100   # a quick look
 
-Each case is a table (21 λ; σ = 0, 30, 60, 80, 90°; 3 realizations × 1 azimuth; 48×48×24 grid —
-the grid's bias here is ≈ 0.005 in Rbar/Tbar, bench_tables) rendered as the colour of the ink on
-paper (r = 0.9) under diffuse light seen at 0°.  Checks printed (✓/✗):
-  1. colour saturates with concentration (Y7.5+B7.5 → Y15+B15, 300 nm and molecular);
-  2. and with smaller particles (300 → 100 → 30 nm → molecular, at 15 %);
-     ("saturated" as CIELAB saturation s = C*/L*: a denser layer is darker at similar chroma)
-  3. the size effect is strongest at low concentration (15 % vs 30 %);
-  4. agglutinated 100-nm grains look like bigger grains (chroma between 100 and 300 nm or below);
-  5. the Y+B particle mix approaches molecular Green as size shrinks;
-  6. a rough top changes little (ΔE small compared with the size effect).
-Swatches: out/bench/findings.png.
+For each model (figures.models: `paper` = TE, bulk ε, the paper's strip colour; `default` =
+unpolarised, local field, 45:0/D50) and each figure, the figure is drawn through the table cache
+(timed; from an empty cache when --cache is a new folder), its CSV and findings report written,
+and then:
+  1. the findings of every figure under both models side by side (agree / undecided /
+     contradict / not testable), with the molecular rows of finding 1 counted apart (exact films:
+     the paper model must show no contradiction there);
+  2. the difference between the models per Fig. 7 cell: ΔE2000 of each model's own colour
+     (its tables, its measurement) and of the tables alone (both measured 45:0/D50/2°), drawn as
+     a grid picture;
+  3. every contradiction that survives, with the numbers a reader needs to explain it: the cells'
+     saturation under both models and under d:0 (mirror included: the glare of a surround).
+Outputs go to --out (default out/bench/findings): PNG, CSV, reports, summary.md.
 """
 
 from __future__ import annotations
 
+import argparse
 import sys
-import tempfile
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 
-from solver.colour import lab_hue_chroma
-from solver.apps.figures.cell_colour import cell_lab, cell_srgb8, delta_e, saturation
-from solver.table.builder import BuildOptions, build_table
+from solver.apps.figures import FigureSettings, make_figure, parse_columns, parse_rows
+from solver.apps.figures.findings import VERDICTS, evaluate, summary_table
+from solver.apps.figures.make import duration
+from solver.apps.figures.models import MODELS
+from solver.apps.figures.paper_grid import TITLES
+from solver.colour import measurement as M
+from solver.colour.cie import delta_e2000, saturation
+from solver.paper import PAPER_ALBEDO
+from solver.table.builder import BuildOptions
 from solver.table.cache import TableCache
-from solver.table.request import table_request
-
-OUT = Path("out/bench")
-SETTINGS = dict(sigma_rad=tuple(np.radians([0, 30, 60, 80, 90])), realizations=3, azimuths=1,
-                grid=(48, 48, 24), tier="full")
-CASES = [("Y7.5+B7.5", p) for p in ("molecular", "sphere:30", "sphere:100", "sphere:300",
-                                     "sphere:100:agglutinated", "sphere:300:rough")]
-CASES += [("Y15+B15", p) for p in ("molecular", "sphere:100", "sphere:300")]
+from solver.table.schema import read_table
 
 
-def colour(table) -> tuple[np.ndarray, np.ndarray]:
-    """CIELAB and sRGB8 of the ink on paper r = 0.9 under uniform diffuse light, seen at 0°
-    (the colour of a figure cell: solver.apps.figures.cell_colour)."""
-    return cell_lab(table), cell_srgb8(table)
-
-
-def main(argv=None) -> int:
-    cache = TableCache(Path(tempfile.mkdtemp(prefix="findings_")))
-    labs, rgbs = {}, {}
-    for ink, particles in CASES:
+def run_model(model: str, figures, args, cache: TableCache, out: Path) -> dict:
+    """{figure: (records, seconds)} of one model."""
+    runs = {}
+    for figure in figures:
+        rows, columns = parse_rows(args.rows, figure), parse_columns(args.columns, figure)
+        settings = FigureSettings(args.accuracy, (), MODELS[model])
         t0 = time.perf_counter()
-        settings = {} if particles == "molecular" else SETTINGS
-        table = build_table(table_request(ink, particles, **settings),
-                            BuildOptions(progress=False, cache=cache))
-        labs[ink, particles], rgbs[ink, particles] = colour(table)
-        lab = labs[ink, particles]
-        hue, chroma = lab_hue_chroma(lab)
-        print(f"{ink:10s} {particles:24s} L* {lab[0]:5.1f} a* {lab[1]:6.1f} b* {lab[2]:6.1f} "
-              f"C* {chroma:5.1f} s {chroma / lab[0]:4.2f} h {hue:5.1f}°   ({time.perf_counter() - t0:.0f} s)",
-              flush=True)
-    green = colour(build_table(table_request("G15"), BuildOptions(progress=False, cache=cache)))[0]
-    C = lambda ink, p: float(lab_hue_chroma(labs[ink, p])[1])
-    S = lambda ink, p: float(saturation(labs[ink, p]))              # CIELAB saturation C*/L*
-    dE = lambda a, b: float(delta_e(a, b))
-    low, high = "Y7.5+B7.5", "Y15+B15"
-    checks = [
-        ("1. saturation C*/L* grows with concentration (300 nm; 100 nm; molecular)",
-         all(S(high, p) > S(low, p) for p in ("sphere:300", "sphere:100", "molecular"))),
-        ("2. saturation grows as grains shrink (15 %: 300 < 100 < 30 nm ≤ molecular)",
-         S(low, "sphere:300") < S(low, "sphere:100") < S(low, "sphere:30") <= S(low, "molecular") + 0.005),
-        ("3. size effect stronger at 15 % than at 30 % (ΔE molecular↔300 nm)",
-         dE(labs[low, "molecular"], labs[low, "sphere:300"]) > dE(labs[high, "molecular"], labs[high, "sphere:300"])),
-        ("4. agglutinated 100 nm is less saturated than dispersed 100 nm (looks bigger)",
-         C(low, "sphere:100:agglutinated") < C(low, "sphere:100")),
-        ("5. Y+B grains approach molecular G15 as size shrinks (ΔE 300 > 100 > 30 nm)",
-         dE(labs[low, "sphere:300"], green) > dE(labs[low, "sphere:100"], green) > dE(labs[low, "sphere:30"], green)),
-        ("6. rough top changes little (ΔE rough↔flat < ΔE 300↔100 nm)",
-         dE(labs[low, "sphere:300:rough"], labs[low, "sphere:300"]) < dE(labs[low, "sphere:300"], labs[low, "sphere:100"])),
-    ]
-    print(f"molecular G15: L* {green[0]:.1f} a* {green[1]:.1f} b* {green[2]:.1f}")
-    for text, ok in checks:
-        print(f"  {'✓' if ok else '✗'} {text}")
-    _swatches(rgbs)
-    return 0
+        output = make_figure(figure, rows, columns, settings, BuildOptions(cache=cache, progress=False),
+                             out / f"{figure}_{args.accuracy}_{model}.png",
+                             out / f"{figure}_{args.accuracy}_{model}_report.md", echo=lambda s: print("  " + s))
+        runs[figure] = (output.records, time.perf_counter() - t0)
+    return runs
 
 
-def _swatches(rgbs: dict) -> None:
+def molecular_finding1(checks) -> tuple[int, int]:
+    """(checks, contradictions) of finding 1 in the molecular column."""
+    mine = [c for c in checks if c.finding == 1 and c.where.startswith("mol:")]
+    return len(mine), sum(c.verdict == "contradicts" for c in mine)
+
+
+def colour_of(cache: TableCache, record, measurement) -> np.ndarray:
+    return measurement.lab(read_table(cache.root / "tables" / f"{record.cache_key}.npz"), PAPER_ALBEDO)
+
+
+def model_difference(runs: dict, cache: TableCache, out: Path, accuracy: str) -> list[str]:
+    """ΔE2000 per Fig. 7 cell between the models (own colours; tables alone at 45:0/D50)."""
+    if "fig7" not in runs["paper"] or "fig7" not in runs["default"]:
+        return []
+    paper = {(r.ink, r.column): r for r in runs["paper"]["fig7"][0] if r.ok}
+    default = {(r.ink, r.column): r for r in runs["default"]["fig7"][0] if r.ok}
+    keys = [k for k in default if k in paper]
+    own = np.array([float(delta_e2000(paper[k].lab, default[k].lab)) for k in keys])
+    tables = np.array([float(delta_e2000(colour_of(cache, paper[k], M.DEFAULT), default[k].lab)) for k in keys])
+    _draw_difference(keys, own, out / f"fig7_{accuracy}_model_difference.png", runs["default"]["fig7"][0])
+    q = lambda a: f"median {np.median(a):.2f}, 90 % {np.percentile(a, 90):.2f}, max {a.max():.2f}"
+    return [f"Fig. 7, {len(keys)} cells, ΔE2000 paper ↔ default model:",
+            f"- each model's own colour (paper: TE, bulk ε, strip geometry; default: unpolarised, local field, "
+            f"45:0): {q(own)}",
+            f"- the tables alone (both measured 45:0/D50/2°): {q(tables)}",
+            f"- picture: {out / f'fig7_{accuracy}_model_difference.png'}"]
+
+
+def _draw_difference(keys, values, path: Path, records) -> None:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    OUT.mkdir(parents=True, exist_ok=True)
-    fig, ax = plt.subplots(figsize=(12, 2.8))
-    for i, ((ink, particles), rgb) in enumerate(rgbs.items()):
-        ax.add_patch(plt.Rectangle((i, 0), 0.9, 1, color=np.asarray(rgb) / 255))
-        label = particles.replace(":agglutinated", "\nagglutinated").replace(":rough", "\nrough top")
-        ax.text(i + 0.45, -0.08, f"{ink}\n{label}", ha="center", va="top", fontsize=7)
-    ax.set_xlim(-0.1, len(rgbs))
-    ax.set_ylim(-0.6, 1.05)
-    ax.axis("off")
-    ax.set_title("ink on paper (r = 0.9), diffuse light, 0° view")
-    fig.savefig(OUT / "findings.png", dpi=120, bbox_inches="tight")
-    print(f"wrote {OUT / 'findings.png'}")
+    inks = list(dict.fromkeys(r.ink for r in records))
+    cols = list(dict.fromkeys(r.column for r in records))
+    grid = np.full((len(inks), len(cols)), np.nan)
+    for (ink, col), v in zip(keys, values):
+        grid[inks.index(ink), cols.index(col)] = v
+    fig, ax = plt.subplots(figsize=(1.0 + 0.62 * len(cols), 1.2 + 0.36 * len(inks)))
+    im = ax.imshow(grid, cmap="magma_r", vmin=0.0, vmax=max(1.0, float(np.nanmax(grid))))
+    for i in range(len(inks)):
+        for j in range(len(cols)):
+            if np.isfinite(grid[i, j]):
+                ax.text(j, i, f"{grid[i, j]:.1f}", ha="center", va="center", fontsize=6,
+                        color="white" if grid[i, j] > 0.6 * np.nanmax(grid) else "black")
+    ax.set_xticks(range(len(cols)), [c.replace("cylinder:", "cyl ").replace("sphere:", "ball ")
+                                     .replace(":agglutinated", " aggl").replace(":rough", " rough")
+                                     for c in cols], rotation=70, fontsize=7)
+    ax.set_yticks(range(len(inks)), inks, fontsize=7)
+    ax.set_title("ΔE2000 between the paper's model and this project's, per Fig. 7 cell", fontsize=9)
+    fig.colorbar(im, ax=ax, fraction=0.03, label="ΔE2000")
+    fig.tight_layout()
+    fig.savefig(path, dpi=130)
+    plt.close(fig)
+
+
+def contradictions(runs: dict, cache: TableCache) -> list[str]:
+    """Each contradiction that survives, with the cells' saturations under both models and d:0."""
+    glare = replace(M.DEFAULT, geometry=M.GEOMETRIES["d:0"])
+    lines = []
+    for model, figs in runs.items():
+        for figure, (records, _) in figs.items():
+            by_cell = {(r.ink, r.column): r for r in records}
+            for c in evaluate(records):
+                if c.verdict != "contradicts":
+                    continue
+                lines.append(f"- {model} {figure} finding {c.finding}: {c.where}: {c.value:+.3f} ± {c.se:.3f}")
+                ink = c.where.split(":")[0].split(" ")[0]
+                cells = [k for k in by_cell if k[0] == ink and (k[1] in c.where or k[1].replace("molecular", "mol")
+                                                                in c.where)]
+                for k in cells[:4]:
+                    r = by_cell[k]
+                    if not r.ok:
+                        continue
+                    d0 = colour_of(cache, r, glare)
+                    lines.append(f"    {k[0]} × {k[1]}: s = {float(saturation(r.lab)):.3f} ({r.measurement}), "
+                                 f"L* {r.lab[0]:.1f}; under d:0 (glare) s = {float(saturation(d0)):.3f}, L* {d0[0]:.1f}")
+    return lines
+
+
+def main(argv=None) -> int:
+    p = argparse.ArgumentParser(prog="python -m benchmarks.bench_findings", description=__doc__.split("\n\n")[0])
+    p.add_argument("--figures", default="fig7,fig8,fig9")
+    p.add_argument("--accuracy", default="preview")
+    p.add_argument("--rows", default=None)
+    p.add_argument("--columns", default=None)
+    p.add_argument("--models", default="paper,default")
+    p.add_argument("--cache", default=None, help="table cache (default: the user's cache)")
+    p.add_argument("--out", default="out/bench/findings")
+    args = p.parse_args(argv)
+    figures = [f.strip() for f in args.figures.split(",")]
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    cache = TableCache(Path(args.cache)) if args.cache else TableCache.default()
+    runs, lines = {}, []
+    for model in [m.strip() for m in args.models.split(",")]:
+        print(f"model {model}: {MODELS[model].description}", flush=True)
+        runs[model] = run_model(model, figures, args, cache, out)
+        for figure, (records, seconds) in runs[model].items():
+            computed = sum(r.computed for r in records)
+            lines.append(f"- {model} {figure}: {len(records)} cells, {computed} computed, {duration(seconds)}")
+    summary = ["# The paper's findings under both models", "", f"accuracy {args.accuracy}; figures {', '.join(figures)}",
+               "", "## Runs", "", *lines]
+    for figure in figures:
+        summary += ["", f"## {TITLES.get(figure, figure)}"]
+        for model in runs:
+            checks = evaluate(runs[model][figure][0])
+            n, bad = molecular_finding1(checks)
+            summary += ["", f"### model {model} ({MODELS[model].measurement.label})", "", *summary_table(checks),
+                        "", f"finding 1 on the molecular column (exact films): {n} checks, {bad} contradict"]
+    summary += ["", "## The two models per cell", "", *model_difference(runs, cache, out, args.accuracy)]
+    summary += ["", "## Contradictions that survive", "", *contradictions(runs, cache)]
+    text = "\n".join(summary) + "\n"
+    (out / "summary.md").write_text(text, encoding="utf-8")
+    print(text)
+    print(f"verdicts: {', '.join(VERDICTS)}; wrote {out / 'summary.md'}")
+    return 0
 
 
 if __name__ == "__main__":

@@ -22,7 +22,8 @@ import numpy as np
 
 from pathlib import Path
 
-from solver.colour import reflectance_to_srgb8, reflectance_to_xyz, xyz_to_lab
+from solver.colour import spectra_to_lab
+from solver.colour.srgb import spectra_to_srgb8
 from solver.inks import parse_ink
 from solver.table.evaluate import directional_albedo
 from solver.table.thinfilm_tier import build_stack_table, build_thinfilm_table
@@ -46,7 +47,7 @@ def build(spec: str, polarisation: str):
 
 def lab_seen(table, view_deg: float) -> np.ndarray:
     refl = directional_albedo(table, PAPER, np.radians(view_deg))
-    return xyz_to_lab(reflectance_to_xyz(table.wavelengths, refl))
+    return spectra_to_lab(table.wavelengths, refl, "D65", "2")
 
 
 def main(argv=None) -> int:
@@ -62,7 +63,7 @@ def main(argv=None) -> int:
     swatches = {}
     for spec in INKS:
         te, un = build(spec, "te"), build(spec, "unpolarised")
-        swatches[spec] = [[reflectance_to_srgb8(t.wavelengths, directional_albedo(t, PAPER, np.radians(v)))
+        swatches[spec] = [[spectra_to_srgb8(t.wavelengths, directional_albedo(t, PAPER, np.radians(v)))
                            for t in (te, un)] for v in VIEWS_DEG]
         cells = []
         for view in VIEWS_DEG:

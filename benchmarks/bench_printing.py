@@ -152,7 +152,7 @@ def dot_gain_table() -> None:
     against Murray–Davies (solver.printing; the demo inks' default tables: exact thin films)."""
     import numpy as np
 
-    from solver.colour import lab_hue_chroma, reflectance_to_xyz, xyz_to_lab
+    from solver.colour import lab_hue_chroma, spectra_to_lab
     from solver.printing import PrintedInks, ReflectancePredictor
     from solver.table.builder import build_table
     from solver.table.request import table_request
@@ -164,8 +164,8 @@ def dot_gain_table() -> None:
         printed = PrintedInks((table,))
         cells = []
         for c in (0.25, 0.5, 0.75):
-            lab = [xyz_to_lab(reflectance_to_xyz(wl, ReflectancePredictor.build(
-                printed, 0.9, np.radians(8.0), model)([c]))) for model in ("clapper-yule", "murray-davies")]
+            lab = [spectra_to_lab(wl, ReflectancePredictor.build(
+                printed, 0.9, np.radians(8.0), model)([c]), "D65", "2") for model in ("clapper-yule", "murray-davies")]
             cy, md = ((float(x[0]), float(lab_hue_chroma(x)[1])) for x in lab)
             cells.append(f"c={c:.2f}: {cy[0]:5.1f} {cy[1]:5.1f} | {md[0]:5.1f} {md[1]:5.1f}")
         print(f"  {ink:4s} " + ";  ".join(cells))

@@ -18,13 +18,12 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass
-from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
 
 from solver.table import InkTable, read_table
-from solver.table.integrals import diffuse_albedo, hemispherical_mean
+from solver.table.eq4 import layer_terms
 
 
 @dataclass(frozen=True)
@@ -79,21 +78,16 @@ def mirror_mueller(r_s, r_p, r_spec) -> np.ndarray:
 def lut_from_table(table: InkTable, source: str = "table") -> InkLUT:
     """Derive the plugin's arrays from a validated table (pure function)."""
     sigma = np.asarray(table.sigma, dtype=np.float64)
-    rho_bar = hemispherical_mean(sigma, table.Rbar_below, axis=-1)
-    tau_bar = hemispherical_mean(sigma, table.Tbar, axis=-1)
-    if table.has_diffuse:
-        r_diff = diffuse_albedo(table.theta, table.dphi, table.R)
-    else:
-        r_diff = np.zeros_like(np.asarray(table.R_spec, dtype=np.float64))
+    terms = layer_terms(table)
     return InkLUT(
         source=source,
         wavelengths_nm=np.asarray(table.wavelengths, dtype=np.float64),
         sigma_rad=sigma,
         R_spec=np.asarray(table.R_spec, dtype=np.float64),
         Tbar=np.asarray(table.Tbar, dtype=np.float64),
-        R_diff=np.asarray(r_diff, dtype=np.float64),
-        rho_bar=np.asarray(rho_bar, dtype=np.float64),
-        tau_bar=np.asarray(tau_bar, dtype=np.float64),
+        R_diff=terms.diffuse_albedo,
+        rho_bar=np.asarray(terms.rho_bar, dtype=np.float64),
+        tau_bar=np.asarray(terms.tau_bar, dtype=np.float64),
         theta_rad=np.asarray(table.theta, dtype=np.float64),
         dphi_rad=np.asarray(table.dphi, dtype=np.float64),
         R=np.asarray(table.R, dtype=np.float64) if table.has_diffuse else None,
@@ -103,13 +97,13 @@ def lut_from_table(table: InkTable, source: str = "table") -> InkLUT:
     )
 
 
-@lru_cache(maxsize=32)
-def _load_cached(path: str, mtime_ns: int, size: int) -> InkLUT:
-    return lut_from_table(read_table(path), source=path)
+_LUTS: dict[tuple, InkLUT] = {}       # (path, modification time, size) → InkLUT
+_MAX_LUTS = 32
 
 
-def load_lut(path) -> InkLUT:
-    """Read, validate and precompute a table file; raises solver.table.TableError.
+def load_lut(path, table: InkTable | None = None) -> InkLUT:
+    """Read, validate and precompute a table file; raises solver.table.TableError. `table`: the
+    file's table when the caller holds it already (a build just made it), so it is not read again.
 
     Cached on (path, modification time, size): a scene that uses one ink on several shapes
     reads it once, and a rewritten file is read again.
@@ -118,6 +112,12 @@ def load_lut(path) -> InkLUT:
     try:
         st = os.stat(p)
     except OSError:
-        return _load_cached.__wrapped__(str(p), 0, 0)   # read_table raises "not found"
-    return _load_cached(str(p.resolve()), st.st_mtime_ns, st.st_size)
+        return lut_from_table(read_table(p), source=str(p))   # read_table raises "not found"
+    key = (str(p.resolve()), st.st_mtime_ns, st.st_size)
+    lut = _LUTS.get(key)
+    if lut is None:
+        while len(_LUTS) >= _MAX_LUTS:
+            _LUTS.pop(next(iter(_LUTS)))
+        lut = _LUTS[key] = lut_from_table(table if table is not None else read_table(p), source=key[0])
+    return lut
 

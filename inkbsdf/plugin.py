@@ -21,6 +21,7 @@ import drjit as dr
 import mitsuba as mi
 import numpy as np
 
+from solver.paper import PAPER_ALBEDO, albedo_problem
 from solver.printing import DEFAULT_COVERAGE_MODEL, check_coverage_model, possible_primaries, stack_order
 from solver.table import TableError
 from .coverage import coverage_support
@@ -32,7 +33,6 @@ from .polarized import depolarizing, in_stokes_frames, mirror_matrix
 from .variant import check_variant
 
 PLUGIN_NAME = "ink"
-DEFAULT_PAPER_ALBEDO = 0.9
 DEFAULT_COVERAGE = 1.0
 SPECULAR, DIFFUSE = 0, 1            # component indices
 
@@ -57,13 +57,9 @@ def check_paper(texture) -> None:
     if texture.is_spatially_varying():
         return
     values = spectrum_values(texture)
-    low, high = float(values.min()), float(values.max())
-    if low >= 0.0 and high <= 1.0:
+    got = albedo_problem(float(values.min()), float(values.max()))
+    if got is None:
         return
-    if low == high:
-        got = f"got {low:g}"
-    else:
-        got = f"got a spectrum reaching {high:.3g}" if high > 1.0 else f"got a spectrum down to {low:.3g}"
     raise InkParameterError(f"ink BSDF: parameter 'paper' is an albedo and must lie in [0, 1], {got}: "
                             'correct it (e.g. <float name="paper" value="0.9"/>, or the <default> that sets it)')
 
@@ -132,7 +128,7 @@ def _define_class():
                     str(props.get("coverage_model", DEFAULT_COVERAGE_MODEL)))
             except ValueError as exc:
                 raise InkParameterError(f"ink BSDF: {exc}") from None
-            self.paper = props.get_texture("paper", DEFAULT_PAPER_ALBEDO)
+            self.paper = props.get_texture("paper", PAPER_ALBEDO)
             check_paper(self.paper)                 # before any table is read or built
             self.coverage_names = coverage_names(props)
             self.inks = load_inks(props)

@@ -13,6 +13,7 @@ from pathlib import Path
 import mitsuba as mi
 
 from solver.table import TableError
+from solver.table.options import OPTIONS, SCENE_PARAMS
 
 from .lut import InkLUT, load_lut
 
@@ -23,12 +24,10 @@ def resolve_path(filename: str) -> Path:
     return Path(str(resolved))
 
 
-#: Scene parameters of an in-scene ink (instead of `filename`) → `table_request` arguments.
-REQUEST_PARAMS = {"ink": "ink", "particles": "particles", "thickness": "thickness_nm",
-                  "accuracy": "accuracy", "polarisation": "polarisation", "realizations": "realizations",
-                  "tolerance": "tolerance", "seed": "seed", "tier": "tier", "target_se": "target_se",
-                  "local_field": "local_field"}
-_INTEGER_PARAMS = ("realizations", "seed", "workers")
+#: Scene parameters of an in-scene ink (instead of `filename`) → `table_request` arguments
+#: (derived from the one list of request options, solver/table/options.py).
+REQUEST_PARAMS = SCENE_PARAMS
+_INTEGER_PARAMS = tuple(o.scene for o in OPTIONS if o.scene and o.scene_type is int) + ("workers",)
 
 #: worker processes for tables that scene loads build (set by `set_build_workers`)
 _build_workers: int | None = None
@@ -125,10 +124,10 @@ def load_table(props) -> InkLUT:
             raise TableError(f"ink BSDF: parameter 'force' must be a boolean, got {force!r}")
         show_build_log()
         try:
-            _, path, _ = get_or_build(request, BuildOptions(cache=cache, workers=build_workers(props), force=force))
+            table, path, _ = get_or_build(request, BuildOptions(cache=cache, workers=build_workers(props), force=force))
         except PreflightError as exc:
             raise TableError(f"ink BSDF: {exc}") from None
-        return load_lut(path)
+        return load_lut(path, table)
     if "filename" not in props:
         raise TableError("ink BSDF: needs 'filename' (an ink table .npz, built with `ink-tables build`) "
                          "or 'ink' (e.g. 'Y7.5+B7.5', with optional 'particles', 'thickness')")
@@ -148,17 +147,15 @@ class _Params(dict):
 
 
 def _member_request(member):
-    """The request of one ink of an overprint: from its scene parameters, or from the meta of
-    its table file."""
+    """The request of one ink of an overprint: from its scene parameters, or read back from the
+    meta of its table file (every setting: TableRequest.from_meta)."""
     from solver.table import read_table
-    from solver.table.request import table_request as make_request
+    from solver.table.request import TableRequest
 
     params = _Params(member.params)
     if "ink" in params:
         return table_request(params)
-    meta = read_table(params["filename"]).meta
-    return make_request(meta["ink"], meta.get("particles", "molecular"), thickness_nm=meta.get("thickness_nm"),
-                        polarisation=meta.get("polarisation", "te"))
+    return TableRequest.from_meta(read_table(params["filename"]).meta)
 
 
 def stack_lut(members) -> InkLUT:
@@ -184,5 +181,5 @@ def stack_lut(members) -> InkLUT:
     cache_dir = next((m.params["cache"] for m in members if "cache" in m.params), None)
     cache = TableCache(Path(str(cache_dir))) if cache_dir else TableCache.default()
     workers = build_workers(_Params(next((m.params for m in members if "workers" in m.params), {})))
-    _, path, _ = get_or_build(stack, BuildOptions(cache=cache, workers=workers, progress=False))
-    return load_lut(path)
+    table, path, _ = get_or_build(stack, BuildOptions(cache=cache, workers=workers, progress=False))
+    return load_lut(path, table)

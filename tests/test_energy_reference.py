@@ -1,10 +1,8 @@
 """Energy of the ink-on-paper BRDF (numpy reference evaluator) and colour conversion."""
 
-import colour
 import numpy as np
 import pytest
 
-from solver.colour import linear_srgb_to_lab, reflectance_to_srgb8, reflectance_to_xyz
 from solver.inks import parse_ink
 from solver.table.evaluate import diffuse_brdf, directional_albedo
 from conftest import PAPER_INKS
@@ -36,15 +34,3 @@ def test_energy_at_most_one_for_every_ink(spec):
     table = build_thinfilm_table(parse_ink(spec), 1000.0, WL, SIGMA)
     albedo = directional_albedo(table, 1.0, SIGMA)
     assert np.all(albedo <= 1 + 1e-12) and np.all(albedo > 0)
-
-
-@pytest.mark.filterwarnings("ignore:Aligning")  # colour-science resamples D65 and the data to the CMFs
-def test_srgb_and_lab_agree_with_colour_science():
-    wl = np.arange(380.0, 781.0, 5.0)
-    refl = 0.2 + 0.6 * np.exp(-((wl - 560) / 60) ** 2)
-    sd = colour.SpectralDistribution(dict(zip(wl, refl)))
-    ref = colour.sd_to_XYZ(sd, illuminant=colour.SDS_ILLUMINANTS["D65"]) / 100
-    np.testing.assert_allclose(reflectance_to_xyz(wl, refl), ref, rtol=2e-3)
-    assert tuple(reflectance_to_srgb8(WL, np.ones_like(WL))) == (255, 255, 255)
-    lab = linear_srgb_to_lab(np.array([1.0, 1.0, 1.0]))
-    np.testing.assert_allclose(lab, [100, 0, 0], atol=0.05)

@@ -24,7 +24,7 @@ from solver.table.builder import BuildOptions
 from solver.table.cache import TableCache
 from solver.table.schema import read_table
 
-TINY = ["--wavelengths", "450:650:100", "--angles", "3", "--grid", "16", "16", "8", "--realizations", "2",
+TINY = ["--wavelengths", "400:700:150", "--angles", "3", "--grid", "16", "16", "8", "--realizations", "2",
         "--azimuths", "1", "--tier", "full", "--workers", "1", "--no-progress"]
 ROWS, COLUMNS = "Y7.5+B7.5", "molecular,sphere:300,sphere:300:rough"
 
@@ -46,8 +46,52 @@ def run_fig7(tmp_path, out_name="f.png", extra=(), status=0):
     return out
 
 
-def layout_of(n_rows, n_cols, has_sub=True):
-    return GridLayout(n_rows, n_cols, CellGeometry(), has_sub)
+def layout_of(n_rows, n_cols, has_sub=True, argv=()):
+    return GridLayout(n_rows, n_cols, CellGeometry(), has_sub, grid_caption(settings_of([*TINY, *argv])))
+
+
+def settings_of(argv):
+    """The FigureSettings the paper command makes of these options."""
+    from solver.apps.cli import make_parser
+    from solver.apps.cli.paper import settings_from_args
+
+    return settings_from_args(make_parser().parse_args(["paper", "fig7", "-o", "x.png", *argv]))
+
+
+def test_the_papers_model_one_option_away(tmp_path):
+    """--model paper: TE tables with bulk pigment ε, colour measured in the paper's strip
+    geometry (no coherent mirror), strips drawn without the mirror; --geometry overrides."""
+    out = run_fig7(tmp_path, extra=["--model", "paper", "--columns", "molecular,sphere:300"])
+    rows = read_rows(out.with_suffix(".csv"))
+    assert {r["model"] for r in rows} == {"paper"} and {r["measurement"] for r in rows} == {"paper/D50/2°"}
+    tables = [read_table(tmp_path / "cache" / "tables" / f"{r['cache_key']}.npz") for r in rows]
+    assert all(t.meta["polarisation"] == "te" and not t.meta["local_field"] for t in tables)
+    from solver.colour import measurement as M
+    np.testing.assert_allclose([float(rows[0][k]) for k in "Lab"], M.parse_measurement("paper").lab(tables[0], 0.9),
+                               atol=1e-3)
+    settings = settings_of([*TINY, "--model", "paper"])
+    assert not settings.model.mirror_in_strip and "without the layer's mirror" in grid_caption(settings)
+    image, layout = read_png(out), layout_of(1, 2, argv=["--model", "paper"])
+    strip, _ = figure6(tables[0], 0.9, size=layout.geometry.square, strip=layout.geometry.strip, mirror=False)
+    x0, y0, x1, y1 = layout.strip_box(0, 0)
+    np.testing.assert_array_equal(image[y0:y1, x0:x1], strip)
+    again = run_fig7(tmp_path, "g.png", extra=["--model", "paper", "--columns", "molecular", "--geometry", "d:8:sce",
+                                                "--illuminant", "D65"])
+    assert read_rows(again.with_suffix(".csv"))[0]["measurement"] == "d:8:sce/D65/2°"
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--geometry", "45/0"], "geometry '45/0': choose one of 45:0, d:8:sci, d:8:sce, d:0, paper"),
+    (["--illuminant", "F2"], "illuminant 'F2': choose one of D50, D65"),
+    (["--observer", "4"], "observer '4': choose one of 2°, 10°"),
+    (["--wavelengths", "450:650:100"], "wavelengths 450–650 nm; a colour needs at least 400–700 nm"),
+])
+def test_measurement_refused_before_any_work(tmp_path, capsys, argv, message):
+    code = main(["paper", "fig7", "--rows", ROWS, "--columns", "molecular,sphere:300", "--cache", str(tmp_path / "cache"),
+                 "-o", str(tmp_path / "f.png"), *TINY, *argv])
+    err = capsys.readouterr().err
+    assert code == 2 and message in err and err.count("\n") == 1
+    assert not (tmp_path / "cache" / "tables").exists() or not any((tmp_path / "cache" / "tables").iterdir())
 
 
 def test_tiny_fig7_layout_csv_and_cache_hits(tmp_path, monkeypatch):
@@ -73,6 +117,9 @@ def test_tiny_fig7_layout_csv_and_cache_hits(tmp_path, monkeypatch):
     assert rows[1]["se_source"] == "realizations" and float(rows[1]["L_se"]) > 0
     assert rows[2]["particles"] == "sphere:300:rough=0.5" and rows[2]["grains"] == "Balls 300 nm rough surface"
     assert rows[1]["tier"] == "full" and "grid=16x16x8" in rows[1]["accuracy"]
+    assert {r["model"] for r in rows} == {"default"} and {r["measurement"] for r in rows} == {"45:0/D50/2°"}
+    assert all(tables[k].meta["polarisation"] == "unpolarised" and tables[k].meta["local_field"] for k in range(3))
+    assert all(np.isfinite(float(r["T_L"])) for r in rows) and rows[0]["se_dof"] == "inf" and rows[1]["se_dof"] == "1"
 
     # each cell holds the Fig. 6 picture of its table, pixel for pixel
     g = layout.geometry
@@ -84,7 +131,7 @@ def test_tiny_fig7_layout_csv_and_cache_hits(tmp_path, monkeypatch):
     # every mark outside the cells is a label inside its box, and every label left a mark
     groups = ["infinitesimal particles", "Balls 300 nm", "Balls 300 nm"]
     labels = grid_labels(layout, ["Y7.5% + B7.5%"], groups, ["", "normal", "rough surface"],
-                         TITLES["fig7"], grid_caption(rows[0]["accuracy"]))
+                         TITLES["fig7"], grid_caption(settings_of(TINY)))
     (rx0, ry0, rx1, ry1), = header_rules(layout, groups)           # one group spans two columns
     assert rx0 > layout.cell_box(0, 1)[0] and rx1 < layout.cell_box(0, 2)[2]
     assert np.all(image[ry0:ry1, rx0:rx1] == RULE_GREY)
@@ -159,7 +206,7 @@ def test_a_table_that_cannot_be_drawn_fails_its_cell_only(tmp_path, monkeypatch)
     rows = read_rows(out.with_suffix(".csv"))
     assert [r["status"] for r in rows] == ["ok", "failed"]
     assert rows[1]["reason"] == "evaluating the table: FloatingPointError: NaN in the square"
-    layout = GridLayout(2, 1, CellGeometry(), has_sub=False)
+    layout = GridLayout(2, 1, CellGeometry(), has_sub=False, caption_text=grid_caption(FigureSettings()))
     x0, y0, x1, y1 = layout.cell_box(1, 0)
     np.testing.assert_array_equal(read_png(out)[y0:y1, x0:x1], crossed_out(y1 - y0, x1 - x0))
 

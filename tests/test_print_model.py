@@ -6,7 +6,7 @@ import pytest
 
 from oracles import CY, MD, cos_mean
 from printing_tables import SIGMA_RAD, WAVELENGTHS_NM, film, incoherent_stack, stack_of
-from solver.colour import lab_hue_chroma, reflectance_to_xyz, xyz_to_lab
+from solver.colour import lab_hue_chroma, spectra_to_lab
 from solver.printing import (PrintedInks, ReflectancePredictor, all_subsets, brdf_smooth, demichel_weights,
                              directional_albedo, reflectance, specular_reflectance, stack_order)
 from solver.table.evaluate import diffuse_brdf
@@ -77,7 +77,7 @@ def test_dot_gain_darker_and_more_saturated(films):
         lab = {}
         for name, model, c in (("cy", CY, 0.5), ("md", MD, 0.5), ("full", MD, 1.0)):
             spectrum = directional_albedo(p, [c], 0.9, np.radians(8.0), model)
-            lab[name] = xyz_to_lab(reflectance_to_xyz(WAVELENGTHS_NM, spectrum))
+            lab[name] = spectra_to_lab(WAVELENGTHS_NM, spectrum, "D65", "2")
         chroma = {k: lab_hue_chroma(v)[1] for k, v in lab.items()}
         assert lab["cy"][0] < lab["md"][0] - 0.5, (ink, lab)
         assert chroma["cy"] > chroma["md"] + 1.0, (ink, chroma)

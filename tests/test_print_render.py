@@ -5,7 +5,8 @@ import numpy as np
 import pytest
 
 from printing_tables import StackProvider, film
-from solver.colour import lab_hue_chroma, linear_srgb_to_lab
+from solver.colour import lab_hue_chroma
+from solver.colour.srgb import linear_to_lab
 from solver.table import write_table
 
 pytestmark = pytest.mark.render
@@ -68,6 +69,6 @@ def test_three_overlapping_textures_render(use_variant, tmp_path, model):
     centre = at(0.50, 0.47)                                   # all three inks
     lum = lambda rgb: float(rgb @ [0.2126, 0.7152, 0.0722])   # noqa: E731
     assert lum(centre) < min(lum(red), lum(yellow)) < lum(paper)
-    hue_r, chroma_r = lab_hue_chroma(linear_srgb_to_lab(red))
-    hue_y, _ = lab_hue_chroma(linear_srgb_to_lab(yellow))
+    hue_r, chroma_r = lab_hue_chroma(linear_to_lab(red))
+    hue_y, _ = lab_hue_chroma(linear_to_lab(yellow))
     assert chroma_r > 10 and (hue_r > 300 or hue_r < 40) and 60 < hue_y < 110

@@ -13,7 +13,7 @@ directional albedo of eq. (4),
 layers).  The angular integrals use the computed σ nodes plus the exact grazing limit of a
 layer with flat faces (σ = 90°: Rbar = 1, Tbar = 0), linearly interpolated — the same for both
 solvers, so the difference in colour is the solvers' difference.  a(θ) at the computed λ is
-interpolated linearly in λ by `solver.colour` (D65, CIE 1931 2°) → CIELAB → ΔE2000
+weighted by `solver.colour.cie` (ASTM E308, D65, CIE 1931 2°) → CIELAB → ΔE2000
 (colour-science).
 """
 
@@ -23,10 +23,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from solver.colour import reflectance_to_xyz, xyz_to_lab
+from solver.colour import spectra_to_lab
+from solver.paper import PAPER_ALBEDO
 from solver.table.integrals import hemispherical_mean
 
-PAPER_ALBEDO = 0.9
 POL_NAMES = ("s", "p", "unpol")
 
 
@@ -88,7 +88,7 @@ def albedo_on_paper(ens: Ensemble, pol: int, paper: float = PAPER_ALBEDO) -> np.
 def lab_of(ens: Ensemble, pol: int) -> np.ndarray:
     """CIELAB [θ, 3] of the ink on paper seen from each computed view angle."""
     a = albedo_on_paper(ens, pol)
-    return xyz_to_lab(reflectance_to_xyz(ens.wavelengths_nm, a, axis=0))
+    return spectra_to_lab(ens.wavelengths_nm, a, "D65", "2", axis=0)
 
 
 def delta_e2000(lab1, lab2) -> np.ndarray:

@@ -56,11 +56,10 @@ def write_exr(path, image) -> Path:
 def srgb_encode(linear: np.ndarray, exposure_stops: float = 0.0) -> np.ndarray:
     """Linear RGB → 8-bit sRGB (IEC 61966-2-1 curve), clipped; NaN becomes 0 (write_png warns).
     A non-finite exposure is refused (ValueError)."""
+    from solver.colour import srgb
+
     scale = 2.0 ** check_exposure(exposure_stops)
-    x = np.nan_to_num(np.asarray(linear, dtype=np.float64) * scale, nan=0.0)
-    x = np.clip(x, 0.0, 1.0)
-    encoded = np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
-    return np.round(encoded * 255.0).astype(np.uint8)
+    return srgb.to_8bit(srgb.encode(np.asarray(linear, dtype=np.float64) * scale))
 
 
 def write_png(path, image, exposure_stops: float = 0.0) -> Path:

@@ -16,6 +16,8 @@ from pathlib import Path
 
 import numpy as np
 
+from solver.paper import PAPER_ALBEDO
+
 A4_CM = (21.0, 29.7)
 #: the A4 stage: eye and target (cm), field of view (degrees), softbox height and half-size
 CAMERA_EYE_CM = (0.0, 30.0, 33.0)        # looks at the page centre from ~42° above it
@@ -28,7 +30,7 @@ SKY_SIZE = (256, 128)                    # lat-long width, height
 SKY_TEXTURE = "sky.exr"
 PATCH_LIFT_CM = 0.02
 LANDSCAPE_WIDTH = 1.3                     # shapes lying on the sheet, a hair above it
-DEFAULTS = {"width": 640, "height": 512, "spp": 64, "paper": 0.9, "max_depth": 4}
+DEFAULTS = {"width": 640, "height": 512, "spp": 64, "paper": PAPER_ALBEDO, "max_depth": 4}
 
 
 @dataclass(frozen=True)

@@ -17,10 +17,10 @@ from __future__ import annotations
 import argparse
 import re
 import sys
-import warnings
 from pathlib import Path
 
-from solver.apps.cli.parsing import DefaultsFormatter, OneLineParser, writable_output
+from solver.apps.cli.parsing import DefaultsFormatter, OneLineParser, run_guarded, writable_output
+from solver.paper import PAPER_ALBEDO, check_paper_albedo
 
 MARGIN_CM = 1.5                     # white paper around the print on its sheet
 SHEEN_UV = (0.84, 0.17)             # where the softbox's mirror image lands, fraction of the sheet
@@ -63,7 +63,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help=f"texture resolution, texels per inch (default: one per image pixel for --dots none, "
                         f"{ht.AM_TEXELS_PER_CELL} per screen period for AM, {ht.FM_DPI:g} for FM; at least "
                         f"{ht.AM_MIN_TEXELS_PER_CELL} per screen period for AM, {ht.FM_MIN_DPI:g} for FM)")
-    p.add_argument("--paper", type=float, default=0.9, help="paper albedo in [0, 1]")
+    p.add_argument("--paper", type=float, default=PAPER_ALBEDO, help="paper albedo in [0, 1]")
     p.add_argument("--size", default="12", help="print size in cm: WIDTHxHEIGHT, or WIDTH (height from the image)")
     p.add_argument("--intent", default="relative", choices=INTENTS,
                    help="relative: the image's white prints as the paper; absolute: CIELAB against a perfect white")
@@ -82,8 +82,10 @@ def settings_from(args):
         dots = parse_dots(args.dots)
     except (InkListError, DotsError) as exc:
         raise UsageError(f"--{exc}") from None          # messages start with the option's name
-    if not 0.0 <= args.paper <= 1.0:
-        raise UsageError(f"--paper: the paper albedo must lie in [0, 1], got {args.paper:g}")
+    try:
+        check_paper_albedo(args.paper, what="--paper: the paper albedo")
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
     if args.dpi is not None and not 1.0 <= args.dpi <= 20000.0:
         raise UsageError(f"--dpi: give a resolution in [1, 20000] texels per inch, got {args.dpi:g}")
     if args.dpi is not None:
@@ -132,19 +134,7 @@ def _sheet_transform(stage) -> str:
 
 def main(argv=None) -> int:
     """The command; returns the exit status (2: bad input, told in one line on stderr)."""
-    with warnings.catch_warnings():
-        warnings.showwarning = lambda message, *a, **k: print(f"warning: {message}", file=sys.stderr)
-        try:
-            return _main(argv)
-        except ValueError as exc:      # UsageError, ImageError, DotsError, a refused table request
-            print(f"error: {exc}", file=sys.stderr)
-            return 2
-        except OSError as exc:
-            print(f"error: {exc.filename or ''}: {exc.strerror or exc}", file=sys.stderr)
-            return 2
-        except KeyboardInterrupt:
-            print("\ninterrupted (Ctrl-C): stopped", file=sys.stderr)
-            return 130
+    return run_guarded(lambda: _main(argv), interrupted="\ninterrupted (Ctrl-C): stopped")
 
 
 def _main(argv) -> int:

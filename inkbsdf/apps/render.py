@@ -22,7 +22,7 @@ import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
-from solver.apps.cli.parsing import DefaultsFormatter, OneLineParser, writable_output
+from solver.apps.cli.parsing import DefaultsFormatter, OneLineParser, run_guarded, writable_output
 
 from inkbsdf.errors import loader_problem
 
@@ -40,7 +40,7 @@ class RenderResult:
     spp: int                 # samples per pixel used
 
 
-class SceneLoadError(RuntimeError):
+class SceneLoadError(ValueError):
     """A scene failed to load; the message is the underlying problem, without the traceback."""
 
 
@@ -157,23 +157,10 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
-def _print_warning(message, category, filename, lineno, file=None, line=None):
-    print(f"warning: {message}", file=sys.stderr)
-
-
 def main(argv=None) -> int:
     """The command; returns the exit status (2: bad input, told in one line on stderr).
     Warnings are said as one `warning: …` line each on stderr."""
-    with warnings.catch_warnings():
-        warnings.showwarning = _print_warning
-        try:
-            return _main(argv)
-        except (UsageError, SceneLoadError, ValueError) as exc:      # TableError is a ValueError
-            print(f"error: {exc}", file=sys.stderr)
-            return 2
-        except OSError as exc:                                        # e.g. an unreadable scene file
-            print(f"error: {exc.filename or ''}: {exc.strerror or exc}", file=sys.stderr)
-            return 2
+    return run_guarded(lambda: _main(argv))            # interrupts: `run` (the main thread) handles them
 
 
 def _main(argv) -> int:

@@ -23,6 +23,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..paper import check_paper_albedo
+
 from .demichel import all_subsets, demichel_weights
 from .inkset import PrintedInks
 from .optics import PrimaryOptics, primary_optics
@@ -56,15 +58,7 @@ def mix(weights, *values):
 
 def paper_albedo(paper, wavelengths_nm) -> np.ndarray:
     """Paper albedo r (number or spectrum on `wavelengths_nm`) as [nλ], checked in [0, 1]."""
-    r = np.asarray(paper, dtype=np.float64)
-    try:
-        r = np.broadcast_to(r, np.shape(wavelengths_nm)).astype(np.float64)
-    except ValueError:
-        raise ValueError(f"paper albedo: a number or {np.size(wavelengths_nm)} values (one per "
-                         f"wavelength), got shape {np.shape(paper)}") from None
-    if np.any(~np.isfinite(r)) or np.any(r < 0) or np.any(r > 1):
-        raise ValueError("paper albedo must lie in [0, 1]")
-    return r
+    return check_paper_albedo(paper, wavelengths_nm)
 
 
 def smooth_mix(model: str, weights, r, layer, t_in, t_out, rho) -> np.ndarray:

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..table.evaluate import brdf_R_at, column_at
-from ..table.integrals import diffuse_albedo, hemispherical_mean
+from ..table.eq4 import LayerTerms, layer_terms
 from ..table.interpolation import lerp_weights
 from ..table.schema import InkTable
 from .demichel import Subset
@@ -53,6 +53,7 @@ class PrimaryOptics:
     subsets: tuple[Subset, ...]
     wavelengths_nm: np.ndarray          # [nλ]
     tables: tuple[InkTable | None, ...] # per primary; None = bare paper
+    terms: tuple[LayerTerms | None, ...]  # eq. (4)'s pieces per primary; None = bare paper
     rho: np.ndarray                     # [nP, nλ]
     tau: np.ndarray                     # [nP, nλ]
 
@@ -61,7 +62,7 @@ class PrimaryOptics:
         polar = np.asarray(polar_rad, dtype=np.float64)
         shape = (self.wavelengths_nm.size,) + polar.shape
         spec, rdiff, tbar = [], [], []
-        for table in self.tables:
+        for table, terms in zip(self.tables, self.terms):
             if table is None:
                 spec.append(np.zeros(shape))
                 rdiff.append(np.zeros(shape))
@@ -69,11 +70,7 @@ class PrimaryOptics:
                 continue
             spec.append(column_at(table, "R_spec", polar))
             tbar.append(column_at(table, "Tbar", polar))
-            if table.has_diffuse:
-                albedo = diffuse_albedo(table.theta, table.dphi, table.R)        # [nλ, nσ]
-                rdiff.append(_column(table.sigma, albedo, polar))
-            else:
-                rdiff.append(np.zeros(shape))
+            rdiff.append(_column(table.sigma, terms.diffuse_albedo, polar))
         return np.stack(spec), np.stack(rdiff), np.stack(tbar)
 
     def layer_brdf(self, sigma_rad, theta_rad, dphi_rad) -> np.ndarray:
@@ -100,8 +97,7 @@ def primary_optics(printed: PrintedInks, subsets, wavelengths_nm=None) -> Primar
           else np.atleast_1d(np.asarray(wavelengths_nm, dtype=np.float64)))
     subsets = tuple(tuple(s) for s in subsets)
     tables = tuple(None if not s else resample_wavelengths(printed.table(s), wl) for s in subsets)
-    rho = np.stack([np.zeros(wl.size) if t is None else hemispherical_mean(t.sigma, t.Rbar_below)
-                    for t in tables])
-    tau = np.stack([np.ones(wl.size) if t is None else hemispherical_mean(t.sigma, t.Tbar)
-                    for t in tables])
-    return PrimaryOptics(subsets=subsets, wavelengths_nm=wl, tables=tables, rho=rho, tau=tau)
+    terms = tuple(None if t is None else layer_terms(t) for t in tables)
+    rho = np.stack([np.zeros(wl.size) if t is None else t.rho_bar for t in terms])
+    tau = np.stack([np.ones(wl.size) if t is None else t.tau_bar for t in terms])
+    return PrimaryOptics(subsets=subsets, wavelengths_nm=wl, tables=tables, terms=terms, rho=rho, tau=tau)

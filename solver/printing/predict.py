@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .inkset import PrintedInks
+from ..paper import PAPER_ALBEDO
 from .model import DEFAULT_COVERAGE_MODEL, albedo_terms, check_coverage_model, paper_albedo, primary_weights
 from .optics import PrimaryOptics, primary_optics
 
@@ -36,7 +37,7 @@ class ReflectancePredictor:
         return self.optics.wavelengths_nm
 
     @classmethod
-    def build(cls, printed: PrintedInks, paper=0.9, view_rad: float = 0.0,
+    def build(cls, printed: PrintedInks, paper=PAPER_ALBEDO, view_rad: float = 0.0,
               coverage_model: str = DEFAULT_COVERAGE_MODEL, wavelengths_nm=None,
               specular: bool = True) -> "ReflectancePredictor":
         """Precompute for one print, paper albedo (number or spectrum on the wavelengths), view
@@ -55,7 +56,7 @@ class ReflectancePredictor:
                             self.view_rad, self.specular)
 
 
-def reflectance(printed: PrintedInks, coverages, paper=0.9, view_rad: float = 0.0,
+def reflectance(printed: PrintedInks, coverages, paper=PAPER_ALBEDO, view_rad: float = 0.0,
                 coverage_model: str = DEFAULT_COVERAGE_MODEL, wavelengths_nm=None,
                 specular: bool = True) -> np.ndarray:
     """One-off form of `ReflectancePredictor.build(...)(coverages)`: [..., k] → [..., nλ]."""

@@ -12,7 +12,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .integrals import diffuse_albedo, hemispherical_mean
+from ..paper import check_paper_albedo
+from .eq4 import layer_terms, paper_gain
+from .integrals import hemispherical_mean
 from .interpolation import lerp_weights
 from .schema import InkTable
 
@@ -38,18 +40,9 @@ def brdf_R_at(table: InkTable, sigma_rad, theta_rad, dphi_rad) -> np.ndarray:
     return out
 
 
-def _paper(table: InkTable, paper) -> np.ndarray:
-    r = np.broadcast_to(np.asarray(paper, dtype=float), table.wavelengths.shape)
-    if not np.all((r >= 0) & (r <= 1)):           # NaN fails too
-        raise ValueError(f"paper albedo must lie in [0, 1], got {paper!r}")
-    return r
-
-
 def multiple_reflection_gain(table: InkTable, paper) -> np.ndarray:
     """r / (1 − r·ρ̄) per wavelength: the paper term's interreflection factor."""
-    r = _paper(table, paper)
-    rho = hemispherical_mean(table.sigma, table.Rbar_below)
-    return r / (1.0 - r * rho)
+    return paper_gain(check_paper_albedo(paper, table.wavelengths), hemispherical_mean(table.sigma, table.Rbar_below))
 
 
 def diffuse_brdf(table: InkTable, paper, sigma_rad, theta_rad, dphi_rad) -> np.ndarray:
@@ -66,11 +59,10 @@ def diffuse_brdf(table: InkTable, paper, sigma_rad, theta_rad, dphi_rad) -> np.n
 def directional_albedo(table: InkTable, paper, polar_rad) -> np.ndarray:
     """Total reflectance (specular + diffuse) for light from `polar_rad`; by reciprocity also
     the brightness seen from `polar_rad` under uniform diffuse light of unit radiance."""
-    gain = multiple_reflection_gain(table, paper)
-    tau = hemispherical_mean(table.sigma, table.Tbar)
-    layer_diffuse = diffuse_albedo(table.theta, table.dphi, table.R)      # [λ, σ]
+    terms = layer_terms(table)
+    gain = terms.gain(check_paper_albedo(paper, table.wavelengths))
     i, t = lerp_weights(table.sigma, polar_rad)
-    layer = layer_diffuse[:, i] * (1 - t) + layer_diffuse[:, i + 1] * t
+    layer = terms.diffuse_albedo[:, i] * (1 - t) + terms.diffuse_albedo[:, i + 1] * t
     extra = (slice(None),) + (None,) * np.ndim(polar_rad)
     return (column_at(table, "R_spec", polar_rad) + layer
-            + (gain * tau)[extra] * column_at(table, "Tbar", polar_rad))
+            + (gain * terms.tau_bar)[extra] * column_at(table, "Tbar", polar_rad))

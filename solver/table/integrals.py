@@ -57,6 +57,27 @@ def hemispherical_mean(polar_rad, values, axis: int = -1) -> np.ndarray:
     return np.tensordot(np.moveaxis(np.asarray(values), axis, -1), w, axes=([-1], [0]))
 
 
+def band_weights(polar_rad, lo_rad: float, hi_rad: float) -> np.ndarray:
+    """Weights w with Σ w_i f(s_i) = ∫_lo^hi f(s) cos s sin s ds / ∫_lo^hi cos s sin s ds for the
+    linear interpolant of f on the grid: the mean of f over a cone or an annular band of polar
+    angles seen by a detector (or lit by a source) whose signal goes as cos s dω (a
+    measurement's cones, docs/design.md §7). lo < hi within the grid; exact to round-off."""
+    x = np.asarray(polar_rad, dtype=float)
+    if not (x[0] <= lo_rad < hi_rad <= x[-1]):
+        raise ValueError(f"band {np.degrees(lo_rad):g}°–{np.degrees(hi_rad):g}° lies outside the grid "
+                         f"{np.degrees(x[0]):g}°–{np.degrees(x[-1]):g}°")
+    gx, gw = _gauss(_GAUSS_ORDER)
+    a = np.clip(x[:-1], lo_rad, hi_rad)[:, None]
+    b = np.clip(x[1:], lo_rad, hi_rad)[:, None]
+    s = a + (b - a) * 0.5 * (gx[None, :] + 1.0)
+    wq = 0.5 * (b - a) * gw[None, :] * np.cos(s) * np.sin(s)
+    t = (s - x[:-1, None]) / (x[1:, None] - x[:-1, None])      # hat of the upper node
+    w = np.zeros_like(x)
+    w[:-1] += np.sum(wq * (1.0 - t), axis=1)
+    w[1:] += np.sum(wq * t, axis=1)
+    return w / w.sum()
+
+
 def azimuth_weights(dphi_rad) -> np.ndarray:
     """Trapezoid weights over Δφ ∈ [0, π] (exact for the linear interpolant)."""
     return hat_integrals(dphi_rad, np.ones_like)

@@ -27,6 +27,7 @@ def table_meta(request: TableRequest, tier: str, reason: str, *, seeds=(), timin
         "materials": {"fingerprint": request.materials.fingerprint, "source": request.materials.source},
         "generator": {"name": "inkbsdf.solver", "version": __version__},
         "settings": request.numeric_fields(),
+        "options": request.to_options(),                 # TableRequest.from_meta reads the request back
         "seeds": list(seeds),
         "timings_s": dict(timings_s or {}),
     }

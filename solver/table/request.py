@@ -23,6 +23,7 @@ import hashlib
 import json
 import warnings
 from dataclasses import asdict, dataclass, field, replace
+from functools import cached_property
 
 import numpy as np
 
@@ -32,7 +33,8 @@ from ..inks import Ink, parse_ink
 from ..materials import MaterialData, default_materials
 from .fingerprint import code_fingerprint
 # the names and limits requests are checked against, re-exported: callers find them here
-from .request_checks import (MAX_ANGLES, OPTION, TIERS, RequestError, ignored_on_molecular,  # noqa: F401
+from .options import OPTION, WAVE_OPTIONS
+from .request_checks import (MAX_ANGLES, TIERS, RequestError, ignored_on_molecular,  # noqa: F401
                              thin_layers_warning, validate)
 from .schema import POLARISATIONS  # noqa: F401
 
@@ -201,8 +203,58 @@ class TableRequest:
         return d
 
     def key(self) -> str:
+        """The content address in the cache (computed once per request)."""
+        return self._key
+
+    @cached_property
+    def _key(self) -> str:
         text = json.dumps(self.numeric_fields(), sort_keys=True, separators=(",", ":"))
         return hashlib.sha256(text.encode()).hexdigest()[:24]
+
+    def to_options(self) -> dict:
+        """The request as `table_request` keywords (options.OPTIONS' names), every setting
+        written out: table_request(**req.to_options()) == req."""
+        layers = self.layers
+        opts = {"ink": self.ink_label, "particles": self.particles_label,
+                "thickness_nm": layers[0].thickness_nm if len(layers) == 1 else tuple(l.thickness_nm for l in layers),
+                "wavelengths_nm": self.grids.wavelengths_nm, "sigma_rad": self.grids.sigma_rad,
+                "dphi_count": self.grids.dphi_count, "polarisation": self.polarisation,
+                "local_field": self.local_field, "accuracy": self.accuracy}
+        if self.wave is not None:
+            opts.update({name: getattr(self.wave, name) for name in WAVE_OPTIONS})
+        return opts
+
+    @classmethod
+    def from_meta(cls, meta: dict, materials: MaterialData | None = None) -> "TableRequest":
+        """The request a table file was built from, read back from its meta (every option:
+        `to_options` round-trips through table_meta). RequestError when the meta lacks the
+        record (a table of another version) or the material data differ from `materials`
+        (default: the package's)."""
+        settings = meta.get("settings")
+        if not isinstance(settings, dict) or "layers" not in settings:
+            raise RequestError(f"table of {meta.get('ink', '?')}: its meta holds no request settings (a table "
+                               "written by another version): build it again with `ink-tables build`")
+        materials = materials or default_materials()
+        if settings.get("materials") != materials.fingerprint:
+            raise RequestError(f"table of {meta.get('ink', '?')}: computed with other material data "
+                               f"(fingerprint {settings.get('materials')}, this package's {materials.fingerprint}): "
+                               "build it again")
+        opts = dict(meta.get("options") or {})
+        if not opts:                    # tables written before `options` was recorded
+            layers = settings["layers"]
+            wave = settings.get("wave") or {}
+            opts = {"ink": meta["ink"], "particles": meta.get("particles", "molecular"),
+                    "thickness_nm": tuple(l["thickness_nm"] for l in layers) if len(layers) > 1
+                    else layers[0]["thickness_nm"],
+                    "wavelengths_nm": settings["wavelengths_nm"], "sigma_rad": settings["sigma_rad"],
+                    "polarisation": settings["polarisation"], "local_field": settings["local_field"],
+                    "accuracy": meta.get("accuracy", "default"), **{k: wave[k] for k in WAVE_OPTIONS if k in wave}}
+            if "dphi_count" in settings:
+                opts["dphi_count"] = settings["dphi_count"]
+        opts = {k: tuple(v) if isinstance(v, list) else v for k, v in opts.items()}
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")             # what the table's own build said already
+            return table_request(opts.pop("ink"), opts.pop("particles"), materials=materials, **opts)
 
     def describe(self) -> str:
         """One line that tells requests apart: the ink, the grids, the sampling of a particle

@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..geometry.stacking import split_cells
+from .options import OPTION
 from .schema import POLARISATIONS
 
 if TYPE_CHECKING:
@@ -24,15 +25,6 @@ class RequestError(ValueError):
 #: the linear interpolation in σ needs (a molecular table at 4096 angles is ~16 MB)
 MAX_ANGLES = 4096
 TIERS = ("auto", "thin-film", "effective-medium", "born", "full")
-#: the CLI name of each option, for messages
-OPTION = {"thickness_nm": "--thickness", "wavelengths_nm": "--wavelengths", "sigma_rad": "--angles",
-          "cell_nm": "--cell", "grid": "--grid", "realizations": "--realizations",
-          "azimuths": "--azimuths", "dphi_count": "--dphi-count", "solver_tol": "--solver-tol",
-          "tolerance": "--tolerance", "seed": "--seed", "tier": "--tier",
-          "polarisation": "--polarisation", "accuracy": "--accuracy", "particles": "--particles",
-          "target_se": "--target-se", "max_realizations": "--max-realizations",
-          "local_field": "--local-field",
-          "ink": "--ink"}
 MIN_GRID = (8, 8, 4)
 #: layers thinner than this are most likely µm typed as nm (a printed ink layer is ~1000 nm)
 THIN_LAYER_NM = 50.0

@@ -9,13 +9,12 @@ from __future__ import annotations
 import argparse
 import importlib
 import logging
-import os
 import signal
 import sys
 import threading
 import warnings
 
-from .parsing import OneLineParser, print_warning
+from .parsing import OneLineParser, print_warning, run_guarded
 
 SUBCOMMANDS = ("build", "show", "geometry", "paper")
 VERBOSE_HELP = ("also log debug details (the request and its cache key, the options in effect); "
@@ -74,45 +73,24 @@ def _terminated(signum, _frame):
     raise SystemExit(128 + signum)
 
 
-def _os_error(exc: OSError) -> str:
-    return f"{exc.strerror or exc}: {exc.filename}" if exc.filename else str(exc.strerror or exc)
-
-
 def main(argv: list[str] | None = None) -> int:
-    """The command; returns the exit status (2: bad input, told in one line on stderr).
-    Warnings are said as one `warning: …` line each on stderr."""
+    """The command; returns the exit status (2: bad input, told in one line on stderr; the
+    commands' one wrapper, parsing.run_guarded). Warnings are said as one `warning: …` line each."""
     with warnings.catch_warnings():
         warnings.showwarning = print_warning
-        return _main(argv)
+        args = make_parser().parse_args(argv)
+    prefix = f"ink-tables {args.command}"
+    return run_guarded(lambda: _run(args), prefix,
+                       f"{prefix}: interrupted (finished work units are kept; rerun to resume)")
 
 
-def _main(argv: list[str] | None) -> int:
-    args = make_parser().parse_args(argv)
+def _run(args) -> int:
     configure_logging(args.verbose)
     log.debug("ink-tables %s, Python %s; options %s", package_version(), sys.version.split()[0],
               {k: v for k, v in vars(args).items() if k != "func" and v is not None})
     if threading.current_thread() is threading.main_thread():
         signal.signal(signal.SIGTERM, _terminated)
-    prefix = f"ink-tables {args.command}"
-    try:
-        return int(args.func(args) or 0)
-    except KeyboardInterrupt:
-        print(f"{prefix}: interrupted (finished work units are kept; rerun to resume)", file=sys.stderr)
-        return 130
-    except BrokenPipeError:                     # e.g. `ink-tables show t.npz | head`
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
-        return 0
-    except MemoryError as exc:                  # e.g. a build forced past the preflight's estimate
-        first = str(exc).splitlines()[0] if str(exc) else "out of memory"
-        print(f"{prefix}: error: ran out of memory ({first}); use coarser settings (--grid, --wavelengths, "
-              "--angles) or fewer --workers", file=sys.stderr)
-        return 1
-    except ValueError as exc:                   # bad input: requests, specs, tables, the cache
-        print(f"{prefix}: error: {exc}", file=sys.stderr)
-        return 2
-    except OSError as exc:                      # read-only folder, full disk, missing file
-        print(f"{prefix}: error: {_os_error(exc)}", file=sys.stderr)
-        return 2
+    return args.func(args)
 
 
 if __name__ == "__main__":

@@ -11,12 +11,12 @@ from solver.table.atomic import atomic_copy
 from solver.table.builder import BuildOptions, get_or_build
 from solver.table.cache import TableCache
 from solver.table.executor import default_workers
-from solver.table.request import (ACCURACY, DEFAULT_POLARISATION, DEFAULT_THICKNESS_NM, POLARISATIONS, TIERS,
-                             TableRequest, WaveSettings, table_request)
+from solver.table.options import OPTIONS
+from solver.table.request import (ACCURACY, DEFAULT_POLARISATION, DEFAULT_THICKNESS_NM, DPHI_COUNT, POLARISATIONS,
+                                  TIERS, TableRequest, WaveSettings, table_request)
 from .parsing import PARTICLE_GRAMMAR, PARTICLE_GRAMMAR_KEY, DefaultsFormatter, uniform_angles, wavelength_range, writable_output
 
 log = logging.getLogger("ink-tables")
-_WAVE = WaveSettings()
 
 
 def given_request_options(args) -> list[str]:
@@ -29,55 +29,81 @@ def given_request_options(args) -> list[str]:
                   if dest != "ink" and getattr(args, dest, default) != default)
 
 
-def add_request_arguments(p: argparse.ArgumentParser, ink_required: bool = True) -> None:
-    """The options that make a table request (shared by `build`, `show` and the figure commands)."""
-    p.add_argument("--ink", required=ink_required,
-                   help="ink spec in volume percent: R15, Y7.5+B7.5, G30, clear; 'Y15/B15' prints Y15 over B15")
-    p.add_argument("--particles", default="molecular",
-                   help=f"molecular | {PARTICLE_GRAMMAR} ({PARTICLE_GRAMMAR_KEY}); 'a/b' per layer of a stack")
-    p.add_argument("--thickness", default=None, metavar="NM[,NM…]",
-                   help="layer thickness in nm: one value for every layer, or one per layer of a stack, top "
-                        f"first, e.g. 800,1000 (default {DEFAULT_THICKNESS_NM:g} each)")
-    p.add_argument("--wavelengths", default=None, metavar="START:STOP:STEP",
-                   help="wavelengths in nm (default 380:780:10 for molecular inks, 380:780:20 for particles "
-                        "at the default accuracy)")
-    p.add_argument("--angles", type=int, default=None, metavar="COUNT",
-                   help="number of incidence angles, uniform from 0° to 90° inclusive (default 46 for "
-                        "molecular inks; particles 0,15,30,45,60,70,80,90)")
-    p.add_argument("--polarisation", choices=POLARISATIONS, default=DEFAULT_POLARISATION,
-                   help="light the table is for (te: the paper's scalar model, which also turns the local "
-                        "field off unless --local-field is given)")
-    field = p.add_mutually_exclusive_group()
-    field.add_argument("--local-field", dest="local_field", action="store_true", default=None,
-                       help="pigments with their local-field permittivity: the dipole response of the grains "
-                            "(and of dissolved pigment) that the scalar equation lacks, which makes the layer "
-                            "absorb 4–12 %% more, as Maxwell's equations do (docs/polarisation.md); the default "
-                            "with unpolarised light")
-    field.add_argument("--no-local-field", dest="local_field", action="store_false", default=None,
-                       help="pigments with their bulk permittivity (the paper's volume mix); the default with te")
-    g = p.add_argument_group("particle inks (wave-optics tiers)")
-    g.add_argument("--accuracy", choices=tuple(ACCURACY), default="default",
-                   help="preset of the settings below (docs/tables.md: error and cost of each)")
-    g.add_argument("--realizations", type=int, default=None,
-                   help=f"random cells per wavelength (default {_WAVE.realizations})")
-    g.add_argument("--target-se", type=float, default=None,
-                   help="add realizations until the largest standard error of Rbar and Tbar is at most this "
-                        "(starting from --realizations, at most --max-realizations)")
-    g.add_argument("--max-realizations", type=int, default=None,
-                   help=f"cap for --target-se (default {_WAVE.max_realizations})")
-    g.add_argument("--azimuths", type=int, default=None,
-                   help=f"incidence azimuths per realization (default {_WAVE.azimuths})")
-    g.add_argument("--tolerance", type=float, default=None,
-                   help=f"allowed error in Rbar/Tbar/diffuse when choosing the cheapest tier (default {_WAVE.tolerance:g})")
-    g.add_argument("--tier", default=None, choices=TIERS,
-                   help="model: auto (measured choice), effective-medium (mean-ε film), born (first order), "
-                        "full (converged wave solve); default auto")
-    g.add_argument("--cell", type=float, default=None, help=f"lateral period of the cell, nm (default {_WAVE.cell_nm:g})")
-    g.add_argument("--grid", type=int, nargs=3, default=None, metavar=("NX", "NY", "NZ"),
-                   help="voxels of the cell (default {} {} {})".format(*_WAVE.grid))
-    g.add_argument("--solver-tol", type=float, default=None,
-                   help=f"wave solver relative residual (default {_WAVE.solver_tol:g})")
-    g.add_argument("--seed", type=int, default=None, help=f"random seed of the realizations (default {_WAVE.seed})")
+def _thickness(text: str):
+    """'1000' → 1000.0, '800,1000' → (800.0, 1000.0): nm, one per layer (top first)."""
+    try:
+        values = [float(t) for t in str(text).split(",")]
+    except ValueError:
+        raise ValueError(f"--thickness {text!r}: expected nm, e.g. 1000 or 800,1000") from None
+    return values[0] if len(values) == 1 else tuple(values)
+
+
+#: how the CLI reads each request option (solver.table.options.OPTIONS), by name: argparse
+#: keywords and the conversion of the parsed value into table_request's
+def _cli_spec() -> dict:
+    w = WaveSettings()
+    return {
+        "ink": (dict(help="ink spec in volume percent: R15, Y7.5+B7.5, G30, clear; 'Y15/B15' prints Y15 over B15"), None),
+        "particles": (dict(default="molecular", help=f"molecular | {PARTICLE_GRAMMAR} ({PARTICLE_GRAMMAR_KEY}); "
+                           "'a/b' per layer of a stack"), None),
+        "thickness_nm": (dict(metavar="NM[,NM…]", help="layer thickness in nm: one value for every layer, or one per "
+                              f"layer of a stack, top first, e.g. 800,1000 (default {DEFAULT_THICKNESS_NM:g} each)"),
+                         _thickness),
+        "wavelengths_nm": (dict(metavar="START:STOP:STEP", help="wavelengths in nm (default 380:780:10 for molecular "
+                                "inks, 380:780:20 for particles at the default accuracy)"), wavelength_range),
+        "sigma_rad": (dict(type=int, metavar="COUNT", help="number of incidence angles, uniform from 0° to 90° "
+                           "inclusive (default 46 for molecular inks; particles 0,15,30,45,60,70,80,90)"),
+                      uniform_angles),
+        "dphi_count": (dict(type=int, metavar="COUNT", help=f"azimuth-difference nodes of the BRDF over 0–180° "
+                            f"(default {DPHI_COUNT})"), None),
+        "polarisation": (dict(choices=POLARISATIONS, default=DEFAULT_POLARISATION, help="light the table is for (te: "
+                              "the paper's scalar model, which also turns the local field off unless --local-field "
+                              "is given)"), None),
+        "local_field": (dict(help="pigments with their local-field permittivity: the dipole response of the grains "
+                             "(and of dissolved pigment) that the scalar equation lacks, which makes the layer absorb "
+                             "4–12 %% more, as Maxwell's equations do (docs/polarisation.md); the default with "
+                             "unpolarised light"), None),
+        "accuracy": (dict(choices=tuple(ACCURACY), default="default",
+                          help="preset of the settings below (docs/tables.md: error and cost of each)"), None),
+        "realizations": (dict(type=int, help=f"random cells per wavelength (default {w.realizations})"), None),
+        "target_se": (dict(type=float, help="add realizations until the largest standard error of Rbar and Tbar is "
+                           "at most this (starting from --realizations, at most --max-realizations)"), None),
+        "max_realizations": (dict(type=int, help=f"cap for --target-se (default {w.max_realizations})"), None),
+        "azimuths": (dict(type=int, help=f"incidence azimuths per realization (default {w.azimuths})"), None),
+        "tolerance": (dict(type=float, help="allowed error in Rbar/Tbar/diffuse when choosing the cheapest tier "
+                           f"(default {w.tolerance:g})"), None),
+        "tier": (dict(choices=TIERS, help="model: auto (measured choice), effective-medium (mean-ε film), born "
+                      "(first order), full (converged wave solve); default auto"), None),
+        "cell_nm": (dict(type=float, help=f"lateral period of the cell, nm (default {w.cell_nm:g})"), None),
+        "grid": (dict(type=int, nargs=3, metavar=("NX", "NY", "NZ"),
+                      help="voxels of the cell (default {} {} {})".format(*w.grid)), tuple),
+        "solver_tol": (dict(type=float, help=f"wave solver relative residual (default {w.solver_tol:g})"), None),
+        "seed": (dict(type=int, help=f"random seed of the realizations (default {w.seed})"), None),
+    }
+
+
+def add_request_arguments(p: argparse.ArgumentParser, ink_required: bool = True, names=None,
+                          group: str = "particle inks (wave-optics tiers)") -> None:
+    """The options that make a table request (shared by `build`, `show` and the figure commands),
+    one per solver.table.options.OPTIONS entry (or those `names`); the particle inks' in `group`."""
+    spec = _cli_spec()
+    particle = p.add_argument_group(group)
+    for option in OPTIONS:
+        if names is not None and option.name not in names:
+            continue
+        kwargs, _ = spec[option.name]
+        target = particle if option.wave or option.name == "accuracy" or names is not None else p
+        if option.name == "local_field":
+            pair = p.add_mutually_exclusive_group()
+            pair.add_argument(option.cli, dest=option.dest, action="store_true", default=None, help=kwargs["help"])
+            pair.add_argument("--no-" + option.cli.removeprefix("--"), dest=option.dest, action="store_false",
+                              default=None, help="pigments with their bulk permittivity (the paper's volume mix); "
+                                                 "the default with te")
+            continue
+        kwargs = {"default": None, **kwargs}
+        if option.name == "ink":
+            kwargs["required"] = ink_required
+        target.add_argument(option.cli, dest=option.dest, **kwargs)
 
 
 def add_cache_argument(p) -> None:
@@ -108,25 +134,23 @@ def add_parser(sub) -> None:
     p.set_defaults(func=run)
 
 
+def given_options(args) -> dict:
+    """{table_request keyword: value} of the request options that `args` holds a value for,
+    each converted as the CLI reads it."""
+    spec = _cli_spec()
+    given = {}
+    for option in OPTIONS:
+        value = getattr(args, option.dest, None)
+        if value is not None:
+            convert = spec[option.name][1]
+            given[option.name] = convert(value) if convert else value
+    return given
+
+
 def request_from_args(args) -> TableRequest:
     """The request the options describe: only the options given override the defaults."""
-    thickness = None
-    if args.thickness is not None:
-        try:
-            values = [float(t) for t in str(args.thickness).split(",")]
-        except ValueError:
-            raise ValueError(f"--thickness {args.thickness!r}: expected nm, e.g. 1000 or 800,1000") from None
-        thickness = values[0] if len(values) == 1 else tuple(values)
-    overrides = {name: value for name, value in (
-        ("realizations", args.realizations), ("azimuths", args.azimuths), ("tolerance", args.tolerance),
-        ("tier", args.tier), ("cell_nm", args.cell), ("grid", tuple(args.grid) if args.grid else None),
-        ("solver_tol", args.solver_tol), ("seed", args.seed), ("target_se", args.target_se),
-        ("max_realizations", args.max_realizations)) if value is not None}
-    return table_request(
-        args.ink, args.particles, thickness_nm=thickness, accuracy=args.accuracy,
-        wavelengths_nm=wavelength_range(args.wavelengths) if args.wavelengths else None,
-        sigma_rad=uniform_angles(args.angles) if args.angles is not None else None,
-        polarisation=args.polarisation, local_field=args.local_field, **overrides)
+    given = given_options(args)
+    return table_request(given.pop("ink"), given.pop("particles", "molecular"), **given)
 
 
 def options_from_args(args) -> BuildOptions:

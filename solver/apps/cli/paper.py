@@ -13,10 +13,14 @@ from __future__ import annotations
 import warnings
 
 from ..figures import FIGURES, FigureSettings, make_figure, parse_columns, parse_rows
-from solver.table.request import ACCURACY, TIERS
+from ..figures.models import DEFAULT_MODEL, MODELS, parse_model
+from solver.table.request import ACCURACY
 from solver.table.request_checks import ignored_on_molecular
-from .build import add_run_arguments, options_from_args
-from .parsing import PARTICLE_GRAMMAR, DefaultsFormatter, uniform_angles, wavelength_range, writable_outputs
+from .build import add_request_arguments, add_run_arguments, given_options, options_from_args
+
+#: the request options a figure takes as overrides of its preset (every cell gets them)
+FIGURE_OVERRIDES = ("wavelengths_nm", "sigma_rad", "grid", "realizations", "azimuths", "cell_nm", "tier", "seed")
+from .parsing import PARTICLE_GRAMMAR, DefaultsFormatter, add_measurement_arguments, measurement_from_args, writable_outputs
 
 
 def add_parser(sub) -> None:
@@ -32,34 +36,23 @@ def add_parser(sub) -> None:
     p.add_argument("--columns", default=None, metavar="GRAINS",
                    help="particle specs separated by commas, e.g. molecular,sphere:100,cylinder:200:inplane "
                         f"(default: the figure's columns); each molecular or {PARTICLE_GRAMMAR}")
+    p.add_argument("--model", default=DEFAULT_MODEL, choices=tuple(MODELS),
+                   help="paper = the model as published (TE light, bulk pigment ε, the strip without the coherent "
+                        "mirror); default = this project's (unpolarised, local field, every order)")
+    add_measurement_arguments(p)
     p.add_argument("--report", default=None, metavar="OUT.md",
                    help="also test the paper's §3.3 findings on every row/column pair and write them here")
-    g = p.add_argument_group("overrides of the preset (quick drafts; every cell gets them)")
-    g.add_argument("--wavelengths", default=None, metavar="START:STOP:STEP", help="wavelengths in nm")
-    g.add_argument("--angles", type=int, default=None, metavar="COUNT",
-                   help="incidence angles, uniform from 0° to 90° inclusive")
-    g.add_argument("--grid", type=int, nargs=3, default=None, metavar=("NX", "NY", "NZ"), help="voxels per cell")
-    g.add_argument("--realizations", type=int, default=None, help="random cells per wavelength")
-    g.add_argument("--azimuths", type=int, default=None, help="incidence azimuths per realization")
-    g.add_argument("--cell", type=float, default=None, help="lateral period of the cell, nm")
-    g.add_argument("--tier", default=None, choices=TIERS, help="model of the particle tables")
-    g.add_argument("--seed", type=int, default=None, help="random seed of the realizations")
+    add_request_arguments(p, names=FIGURE_OVERRIDES, group="overrides of the preset (quick drafts; every cell gets them)")
     add_run_arguments(p)
     p.set_defaults(func=run)
 
 
 def settings_from_args(args) -> FigureSettings:
-    overrides = []
-    if args.wavelengths is not None:
-        overrides.append(("wavelengths_nm", wavelength_range(args.wavelengths)))
-    if args.angles is not None:
-        overrides.append(("sigma_rad", uniform_angles(args.angles)))
-    for name, value in (("grid", tuple(args.grid) if args.grid else None), ("realizations", args.realizations),
-                        ("azimuths", args.azimuths), ("cell_nm", args.cell), ("tier", args.tier),
-                        ("seed", args.seed)):
-        if value is not None:
-            overrides.append((name, value))
-    return FigureSettings(args.accuracy, tuple(overrides))
+    overrides = tuple((name, value) for name, value in given_options(args).items() if name in FIGURE_OVERRIDES)
+    model = parse_model(args.model)
+    measurement = measurement_from_args(args, model.measurement.geometry.name)
+    return FigureSettings(args.accuracy, overrides, model,
+                          None if measurement == model.measurement else measurement)
 
 
 def run(args) -> int:

@@ -9,6 +9,7 @@ import math
 import os
 import sys
 import tempfile
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -20,6 +21,44 @@ from solver.table.request import MAX_ANGLES, RequestError
 def print_warning(message, category=None, filename=None, lineno=None, file=None, line=None) -> None:
     """`warnings.showwarning` of the commands: one `warning: …` line on stderr, no source line."""
     print(f"warning: {message}", file=sys.stderr)
+
+
+def os_error_text(exc: OSError) -> str:
+    """An OSError as one line: what went wrong, and the file."""
+    return f"{exc.strerror or exc}: {exc.filename}" if exc.filename else str(exc.strerror or exc)
+
+
+def run_guarded(work, prefix: str = "", interrupted: str | None = None) -> int:
+    """The commands' one wrapper (`ink-tables`, `python -m inkbsdf.print`, `… render`): run
+    `work()` (→ exit status) with each warning said as one `warning: …` line, bad input (a
+    ValueError: requests, specs, tables, images, usage) and file problems (OSError) as one
+    `PREFIX: error: …` line and exit 2, an interrupt as the line `interrupted` and exit 130 (None:
+    the caller handles interrupts), a closed output pipe quietly (`… | head`), memory exhausted
+    as one line and exit 1. Anything else is a bug and keeps its traceback."""
+    lead = f"{prefix}: error:" if prefix else "error:"
+    with warnings.catch_warnings():
+        warnings.showwarning = print_warning
+        try:
+            return int(work() or 0)
+        except KeyboardInterrupt:
+            if interrupted is None:
+                raise
+            print(interrupted, file=sys.stderr)
+            return 130
+        except BrokenPipeError:
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+            return 0
+        except MemoryError as exc:                  # e.g. a build forced past the preflight's estimate
+            first = str(exc).splitlines()[0] if str(exc) else "out of memory"
+            print(f"{lead} ran out of memory ({first}); use coarser settings (--grid, --wavelengths, "
+                  "--angles) or fewer --workers", file=sys.stderr)
+            return 1
+        except ValueError as exc:
+            print(f"{lead} {exc}", file=sys.stderr)
+            return 2
+        except OSError as exc:                      # read-only folder, full disk, missing file
+            print(f"{lead} {os_error_text(exc)}", file=sys.stderr)
+            return 2
 
 
 class OneLineParser(argparse.ArgumentParser):
@@ -122,3 +161,26 @@ def uniform_angles(count: int) -> tuple[float, ...]:
         raise RequestError(f"--angles is a count of incidence angles from 0° to 90° inclusive, 2 … {MAX_ANGLES}; "
                            f"got {count!r}")
     return tuple(float(s) for s in np.linspace(0.0, np.pi / 2, int(count)))
+
+
+def add_measurement_arguments(parser, geometry_default: str | None = None) -> None:
+    """--geometry, --illuminant, --observer: how a colour is measured (solver.colour.measurement);
+    `geometry_default` None means the command's own default (e.g. the figure model's)."""
+    from solver.colour.cie import ILLUMINANTS, OBSERVERS
+    from solver.colour.measurement import DEFAULT_ILLUMINANT, DEFAULT_OBSERVER, GEOMETRIES
+
+    g = parser.add_argument_group("colour measurement (docs/design.md §7)")
+    g.add_argument("--geometry", default=geometry_default, metavar="GEOMETRY",
+                   help=f"{' | '.join(GEOMETRIES)}: 45:0 = light 45°, view 0°, gloss excluded (ISO 13655); "
+                        "d:8:sci / d:8:sce = sphere, view 8°, specular included / excluded; d:0 = diffuse light, "
+                        "view 0°, the layer's mirror included; paper = the paper's strip (no coherent mirror)"
+                        + ("" if geometry_default else " (default: the model's, 45:0 for the default model)"))
+    g.add_argument("--illuminant", default=DEFAULT_ILLUMINANT, metavar="NAME", help=" | ".join(ILLUMINANTS))
+    g.add_argument("--observer", default=DEFAULT_OBSERVER, metavar="DEG", help=" | ".join(OBSERVERS) + " (degrees)")
+
+
+def measurement_from_args(args, geometry_default: str):
+    """The Measurement the options name (each name checked: one line listing the valid ones)."""
+    from solver.colour.measurement import parse_measurement
+
+    return parse_measurement(args.geometry or geometry_default, args.illuminant, args.observer)

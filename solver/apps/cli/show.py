@@ -15,13 +15,16 @@ from pathlib import Path
 
 import numpy as np
 
-from solver.colour import lab_hue_chroma, reflectance_to_srgb8, reflectance_to_xyz, xyz_to_lab
-from ..figures.fig6 import plot_figure6
+from solver.colour.cie import lab_hue_chroma
+from solver.colour.measurement import DEFAULT, DEFAULT_GEOMETRY, GEOMETRIES, Measurement
+from solver.colour.srgb import lab_to_srgb8
+from solver.paper import PAPER_ALBEDO, check_paper_albedo
 from solver.table import read_table
-from solver.table.evaluate import column_at, directional_albedo
+from solver.table.evaluate import column_at
+from ..figures.fig6 import plot_figure6
 from .build import (add_cache_argument, add_request_arguments, cache_from_args, given_request_options,
                     request_from_args)
-from .parsing import DefaultsFormatter, writable_output
+from .parsing import DefaultsFormatter, add_measurement_arguments, measurement_from_args, writable_output
 
 
 #: what a cache key, or the start of one, looks like (request.TableRequest.key: hex digits)
@@ -43,7 +46,31 @@ def thickness_text(thickness_nm) -> str:
     return " + ".join(f"{float(v):g}" if isinstance(v, (int, float, np.number)) else str(v) for v in values)
 
 
-def summary(table, paper: float = 0.9) -> str:
+def colour_lines(table, paper: float, measurement: Measurement) -> list[str]:
+    """The ink's colour on paper in every geometry under the measurement's illuminant and
+    observer, the chosen geometry marked."""
+    from dataclasses import replace
+
+    from solver.colour.cie import ColourError
+
+    try:
+        measurement.check(table)
+    except ColourError as exc:
+        return [f"colour: not measured: {exc}"]
+    lines = [f"colour on paper r={paper:g}, {measurement.illuminant} {measurement.observer}° "
+             f"(* = --geometry {measurement.geometry.name}):"]
+    for name, geometry in GEOMETRIES.items():
+        m = replace(measurement, geometry=geometry)
+        lab = m.lab(table, paper)
+        hue, chroma = lab_hue_chroma(lab)
+        mark = "*" if name == measurement.geometry.name else " "
+        lines.append(f" {mark}{name:>8}: L*a*b* = ({lab[0]:5.1f}, {lab[1]:6.1f}, {lab[2]:6.1f}), hue {hue:3.0f}°, "
+                     f"chroma {chroma:5.1f}, sRGB {tuple(int(v) for v in lab_to_srgb8(lab, m.illuminant, m.observer))}"
+                     f"  — {geometry.description}")
+    return lines
+
+
+def summary(table, paper: float = PAPER_ALBEDO, measurement: Measurement = DEFAULT) -> str:
     meta = table.meta
     wl = table.wavelengths
     lines = [
@@ -71,13 +98,7 @@ def summary(table, paper: float = 0.9) -> str:
                      f"{table.Tbar[li, 0]:8.4f}  {pm}  {1 - table.Rbar[li, 0] - table.Tbar[li, 0]:6.4f}  "
                      f"{r60[li]:9.4f}  {t60[li]:9.4f}")
     lines.append("  (60° columns interpolated between the table's incidence nodes, as the renderer does)")
-    for angle in (0.0, 45.0):
-        refl = directional_albedo(table, paper, np.radians(angle))
-        lab = xyz_to_lab(reflectance_to_xyz(wl, refl))
-        hue, chroma = lab_hue_chroma(lab)
-        lines.append(f"on paper r={paper:g}, diffuse light, view {angle:g}°: "
-                     f"L*a*b* = ({lab[0]:.1f}, {lab[1]:.1f}, {lab[2]:.1f}), hue {hue:.0f}°, chroma {chroma:.1f}, "
-                     f"sRGB {tuple(int(v) for v in reflectance_to_srgb8(wl, refl))}")
+    lines += colour_lines(table, paper, measurement)
     return "\n".join(lines)
 
 
@@ -116,9 +137,10 @@ def add_parser(sub) -> None:
                         "and the request options instead")
     p.add_argument("--png", help="write the Fig. 6 picture (strip + BRDF square, with axes and a caption) here")
     p.add_argument("--plot", help="write spectra with error bars here (PNG)")
-    p.add_argument("--paper", type=float, default=0.9, help="paper albedo r")
+    p.add_argument("--paper", type=float, default=PAPER_ALBEDO, help="paper albedo r")
     p.add_argument("--dphi", type=float, default=None,
                    help="azimuth difference (deg) for the BRDF square; default: average over Δφ")
+    add_measurement_arguments(p, DEFAULT_GEOMETRY)
     add_request_arguments(p, ink_required=False)
     add_cache_argument(p)
     p.set_defaults(func=run)
@@ -147,8 +169,8 @@ def cached_by_key(cache, key: str) -> Path:
 
 
 def run(args) -> int:
-    if not (np.isfinite(args.paper) and 0.0 <= args.paper <= 1.0):
-        raise ValueError(f"--paper {args.paper}: the paper albedo must lie in [0, 1]")
+    check_paper_albedo(args.paper, what="--paper (the paper albedo)")
+    measurement = measurement_from_args(args, DEFAULT_GEOMETRY)
     if args.dphi is not None and not (np.isfinite(args.dphi) and 0.0 <= args.dphi <= 180.0):
         raise ValueError(f"--dphi {args.dphi}: the azimuth difference must lie in [0, 180] degrees")
     for option, path in (("--png", args.png), ("--plot", args.plot)):
@@ -170,7 +192,7 @@ def run(args) -> int:
         table = read_table(path)
     else:
         table = read_table(args.file)
-    print(summary(table, args.paper))
+    print(summary(table, args.paper, measurement))
     if args.png:
         plot_figure6(table, args.png, args.paper, dphi_deg=args.dphi)
         print(f"wrote {args.png}")

@@ -6,7 +6,7 @@
                 FigureSettings("preview"), BuildOptions(), "fig8.png", report_path="fig8.md")
 
 Modules, one stage each: paper_grid (rows, columns, labels), cells (requests, estimate, build),
-cell_colour (CIELAB and its standard error), fig6 (the Fig. 6 picture), layout (pixels of a
+models (the paper's and this project's), fig6 (the Fig. 6 picture), layout (pixels of a
 grid), draw (PNG output), records (CSV), findings (the report), make (the whole figure).
 """
 

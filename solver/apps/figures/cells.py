@@ -17,10 +17,12 @@ from dataclasses import dataclass, field
 
 from tqdm import tqdm
 
+from solver.colour.measurement import Measurement
 from solver.geometry.spec import MOLECULAR_WORDS
 from solver.table.builder import BuildOptions, get_or_build
 from solver.table.request import OPTION, TableRequest, default_grids, table_request
 from solver.table.schema import InkTable
+from .models import DEFAULT_MODEL, MODELS, Model
 from .paper_grid import Column, Row
 
 log = logging.getLogger("inkbsdf.figures")
@@ -37,6 +39,13 @@ class FigureSettings:
 
     accuracy: str = "default"
     overrides: tuple[tuple[str, object], ...] = ()
+    model: Model = MODELS[DEFAULT_MODEL]
+    measurement: Measurement | None = None      # None: the model's own
+
+    @property
+    def colour_measurement(self) -> Measurement:
+        """How the cells' colours are measured (the CSV, the findings)."""
+        return self.measurement or self.model.measurement
 
     def request(self, ink, particles: str) -> TableRequest:
         """The cell's request.  Every cell of a figure is sampled on the same grids — the
@@ -45,6 +54,7 @@ class FigureSettings:
         (at `preview`, 40-nm steps alone move a saturated film's colour by several ΔE)."""
         molecular = particles.strip().lower() in MOLECULAR_WORDS
         kw = {k: v for k, v in self.overrides if k in GRID_OPTIONS or not molecular}
+        kw.update(self.model.request_options())
         if molecular:           # the preset gives its grids only: the film has no wave settings
             wavelengths, sigma = default_grids(self.accuracy, molecular=False)
             return table_request(ink, particles, **{"wavelengths_nm": wavelengths, "sigma_rad": sigma, **kw})
@@ -61,6 +71,12 @@ class FigureSettings:
         if not self.overrides:
             return self.accuracy
         return f"{self.accuracy} ({', '.join(_describe(k, v) for k, v in self.overrides)})"
+
+    @property
+    def caption(self) -> str:
+        """The model and the colour measurement, for captions and reports."""
+        return (f"model {self.model.name} ({self.model.description}); accuracy {self.label}; "
+                f"colour measured {self.colour_measurement.label} ({self.colour_measurement.geometry.description})")
 
 
 def _describe(name: str, value) -> str:
@@ -132,8 +148,10 @@ def across_particles(row: Row, column: Column, settings: FigureSettings) -> tupl
 def plan_cells(rows, columns, settings: FigureSettings) -> list[CellPlan]:
     """One plan per cell, rows first.  Errors of the settings themselves are raised (bad input);
     a cell that cannot be planned (e.g. no tilt reaches its concentration) is kept as failed."""
-    settings.request("Y7.5+B7.5", "molecular")          # the settings are checked once, here
-    settings.request("Y7.5+B7.5", "sphere:100")
+    for probe in (settings.request("Y7.5+B7.5", "molecular"), settings.request("Y7.5+B7.5", "sphere:100")):
+        # the settings are checked once, here, and the colour's needs against their grids
+        settings.colour_measurement.check_grids(probe.grids.wavelengths_nm, probe.grids.sigma_rad,
+                                                "the figure's tables")
     plans = []
     for i, row in enumerate(rows):
         for j, column in enumerate(columns):

@@ -16,8 +16,9 @@ import dataclasses
 
 import numpy as np
 
-from solver.colour import reflectance_to_srgb8
-from solver.table.evaluate import diffuse_brdf, directional_albedo
+from solver.colour.srgb import spectra_to_srgb8
+from solver.paper import PAPER_ALBEDO
+from solver.table.evaluate import column_at, diffuse_brdf, directional_albedo
 from solver.table.interpolation import lerp_weights
 from solver.table.schema import InkTable
 
@@ -42,19 +43,27 @@ def azimuth_averaged(table: InkTable, dphi_rad) -> InkTable:
     return dataclasses.replace(table, dphi=np.array([0.0, np.pi]), R=np.stack([mean, mean], axis=-1))
 
 
-def figure6(table: InkTable, paper=0.9, size: int = 256, strip: int = 64,
-            dphi_deg: float | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """The strip (size × strip × 3) and the square (size × size × 3), uint8 sRGB.
+def strip_reflectance(table: InkTable, paper, view_rad, mirror: bool = True) -> np.ndarray:
+    """[nλ, …]: the strip's reflectance under uniform diffuse light seen at `view_rad`, with the
+    layer's coherent mirror (the surround's reflection) or without it (the paper's strip)."""
+    albedo = directional_albedo(table, paper, view_rad)
+    return albedo if mirror else albedo - column_at(table, "R_spec", view_rad)
+
+
+def figure6(table: InkTable, paper=PAPER_ALBEDO, size: int = 256, strip: int = 64,
+            dphi_deg: float | None = None, mirror: bool = True) -> tuple[np.ndarray, np.ndarray]:
+    """The strip (size × strip × 3) and the square (size × size × 3), uint8 sRGB; `mirror`:
+    whether the strip shows the layer's coherent mirror (the paper's model does not).
 
     Row i of both is the view angle 60°·i/(size − 1); column j of the square the light angle
     60°·j/(size − 1)."""
     view = pixel_angles_rad(size)
-    strip_rgb = reflectance_to_srgb8(table.wavelengths, directional_albedo(table, paper, view), axis=0)
+    strip_rgb = spectra_to_srgb8(table.wavelengths, strip_reflectance(table, paper, view, mirror), axis=0)
     light = view
     if dphi_deg is None:
         table = azimuth_averaged(table, np.linspace(0.0, np.pi, DPHI_SAMPLES))
     spec = diffuse_brdf(table, paper, light[None, :], view[:, None], np.radians(dphi_deg or 0.0))
-    square = reflectance_to_srgb8(table.wavelengths, spec, axis=0)            # [view, light, 3]
+    square = spectra_to_srgb8(table.wavelengths, spec, axis=0)            # [view, light, 3]
     return np.ascontiguousarray(np.broadcast_to(strip_rgb[:, None, :], (size, strip, 3))), square
 
 
@@ -78,7 +87,7 @@ def caption(table: InkTable, paper, dphi_deg: float | None) -> str:
             "A white Lambertian of albedo 1 is (255, 255, 255).")
 
 
-def plot_figure6(table: InkTable, path, paper=0.9, dphi_deg: float | None = None, size: int = 256) -> None:
+def plot_figure6(table: InkTable, path, paper=PAPER_ALBEDO, dphi_deg: float | None = None, size: int = 256) -> None:
     """The standalone Fig. 6 picture with axes, angle labels and a caption (PNG)."""
     import textwrap
 

@@ -13,6 +13,8 @@ the regions each label must stay within (the renderer wraps and sizes text to fi
 
 from __future__ import annotations
 
+import math
+import textwrap
 from dataclasses import dataclass
 
 Box = tuple[int, int, int, int]          # x0, y0, x1, y1 (x1, y1 exclusive)
@@ -45,12 +47,28 @@ class Label:
     align: str                # 'center' or 'right'
 
 
+#: the caption's smallest readable font (px) and line height (× font): the caption's box grows
+#: to hold the text at this size (a narrow figure's caption wraps to more lines)
+CAPTION_FONT_PX, LINE_SPACING = 9.0, 1.3
+
+
 @dataclass(frozen=True)
 class GridLayout:
     n_rows: int
     n_cols: int
     geometry: CellGeometry
     has_sub: bool
+    caption_text: str = ""
+
+    @property
+    def caption_height(self) -> int:
+        """The caption box's height (px): geometry.caption, or more for a long caption in a narrow
+        figure (its lines at CAPTION_FONT_PX; characters ≈ 0.55 font wide, as draw._fit_text wraps)."""
+        g = self.geometry
+        width = self.cells_left + self.n_cols * self.pitch_x + g.margin - 2 * g.margin
+        chars = max(4, int(width / (0.55 * CAPTION_FONT_PX)))
+        lines = len(textwrap.wrap(self.caption_text, chars, break_long_words=False))
+        return max(g.caption, int(math.ceil(lines * CAPTION_FONT_PX * LINE_SPACING)) + 4)
 
     # ---- sizes
     @property
@@ -79,7 +97,7 @@ class GridLayout:
         """(width, height) of the whole figure in pixels."""
         g = self.geometry
         return (self.cells_left + self.n_cols * self.pitch_x + g.margin,
-                self.cells_top + self.n_rows * self.pitch_y + g.caption)
+                self.cells_top + self.n_rows * self.pitch_y + self.caption_height)
 
     # ---- boxes
     def cell_box(self, i: int, j: int) -> Box:
@@ -114,7 +132,7 @@ class GridLayout:
 
     def caption_box(self) -> Box:
         w, h = self.size
-        return self.geometry.margin, h - self.geometry.caption, w - self.geometry.margin, h
+        return self.geometry.margin, h - self.caption_height, w - self.geometry.margin, h
 
 
 def column_groups(groups: list[str]) -> list[tuple[str, int, int]]:

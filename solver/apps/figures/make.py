@@ -12,9 +12,10 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
+from solver.colour.table_colour import node_errors, table_colour
+from solver.paper import PAPER_ALBEDO
 from solver.table.builder import BuildOptions, pooled
 from . import findings
-from .cell_colour import PAPER_ALBEDO, cell_colour, node_errors
 from .cells import (CellResult, FigureSettings, build_cells, estimates, failure_reason, plan_cells,
                     refuse_what_cannot_fit)
 from .draw import Curve, Panel, compose, draw_grid, draw_spectra
@@ -43,14 +44,14 @@ def duration(seconds: float) -> str:
     return f"{seconds / 60:.1f} min" if seconds >= 60 else f"{seconds:.0f} s"
 
 
-def grid_caption(accuracy: str) -> str:
-    return (f"Ink layer on paper (white Lambertian, albedo {PAPER_ALBEDO:g}); accuracy {accuracy}; unpolarised light, "
-            "pigments with their grains' local field. Each cell: strip = "
-            "diffuse light, view 0° (top) to 60° (bottom); square = parallel beam, light 0–60° (x) × view 0–60° (y). "
-            "Crossed out: failed (reason in the CSV).")
+def grid_caption(settings: FigureSettings) -> str:
+    mirror = "with" if settings.model.mirror_in_strip else "without"
+    return (f"Ink layer on paper (white Lambertian, albedo {PAPER_ALBEDO:g}); {settings.caption}. Each cell: strip = "
+            f"diffuse light, view 0° (top) to 60° (bottom), {mirror} the layer's mirror; square = parallel beam, "
+            "light 0–60° (x) × view 0–60° (y). Crossed out: failed (reason in the CSV).")
 
 
-def evaluate_cells(results: list[CellResult], geometry: CellGeometry | None):
+def evaluate_cells(results: list[CellResult], geometry: CellGeometry | None, settings: FigureSettings):
     """Each cell's colour (the CSV) and, for a grid, its Fig. 6 picture; a table that cannot be
     evaluated makes its cell failed (crossed out, with the reason), never a crash after the builds.
 
@@ -60,9 +61,10 @@ def evaluate_cells(results: list[CellResult], geometry: CellGeometry | None):
         key = (res.plan.i, res.plan.j)
         if res.ok:
             try:
-                colours[key] = cell_colour(res.table, PAPER_ALBEDO)
+                colours[key] = table_colour(res.table, PAPER_ALBEDO, settings.colour_measurement)
                 if geometry is not None:
-                    pictures[key] = figure6(res.table, PAPER_ALBEDO, size=geometry.square, strip=geometry.strip)
+                    pictures[key] = figure6(res.table, PAPER_ALBEDO, size=geometry.square, strip=geometry.strip,
+                                            mirror=settings.model.mirror_in_strip)
             except Exception as exc:           # noqa: BLE001 — recorded and drawn, never dropped
                 colours.pop(key, None)
                 res = dataclasses.replace(res, table=None, error=f"evaluating the table: {failure_reason(exc)}")
@@ -72,12 +74,14 @@ def evaluate_cells(results: list[CellResult], geometry: CellGeometry | None):
     return out, colours, pictures
 
 
-def draw_grid_figure(figure: str, rows, columns, pictures: dict, accuracy: str, path,
+def draw_grid_figure(figure: str, rows, columns, pictures: dict, settings: FigureSettings, path,
                      geometry: CellGeometry | None = None) -> GridLayout:
     """Fig. 7 / Fig. 8: each cell the Fig. 6 picture of its table, laid out as in the paper."""
-    layout = GridLayout(len(rows), len(columns), geometry or CellGeometry(), has_sub=any(c.sub for c in columns))
+    caption = grid_caption(settings)
+    layout = GridLayout(len(rows), len(columns), geometry or CellGeometry(), has_sub=any(c.sub for c in columns),
+                        caption_text=caption)
     labels = grid_labels(layout, [r.label for r in rows], [c.group for c in columns], [c.sub for c in columns],
-                         TITLES.get(figure, figure), grid_caption(accuracy))
+                         TITLES.get(figure, figure), caption)
     draw_grid(compose(layout, pictures, header_rules(layout, [c.group for c in columns])), labels, path)
     return layout
 
@@ -92,7 +96,7 @@ _LINESTYLES = ("-", "--", ":", "-.")
 
 def _normal_se(table, name: str):
     """Standard error of a column at normal incidence (σ = 0 is the first node); None: unknown."""
-    errors, _ = node_errors(table)
+    errors, _, _ = node_errors(table)
     return None if errors is None else errors[name][:, 0]
 
 
@@ -125,8 +129,9 @@ def spectra_panels(rows, columns, results: list[CellResult]) -> list[Panel]:
     return panels
 
 
-def draw_spectra_figure(rows, columns, results, accuracy: str, path) -> list[Panel]:
-    caption = (f"Total transmittance Tbar (coherent + diffuse) of the layer at normal incidence; accuracy {accuracy}; "
+def draw_spectra_figure(rows, columns, results, settings: FigureSettings, path) -> list[Panel]:
+    caption = (f"Total transmittance Tbar (coherent + diffuse) of the layer at normal incidence; model "
+               f"{settings.model.name} ({settings.model.description}); accuracy {settings.label}; "
                "bands: ±2 standard errors across random cells (none for one realization).")
     panels = spectra_panels(rows, columns, results)
     draw_spectra(panels, TITLES["fig9"], caption, path, "transmittance Tbar(0°)")
@@ -169,14 +174,14 @@ def make_figure(figure: str, rows, columns, settings: FigureSettings, opts: Buil
     geometry = CellGeometry() if figure in GRID_FIGURES else None
     with pooled(opts) as running:                  # one pool of workers for every table of the figure
         built = build_cells(plans, running, seconds, progress=opts.progress)
-    results, colours, pictures = evaluate_cells(built, geometry)
+    results, colours, pictures = evaluate_cells(built, geometry, settings)
     spectra = None
     if geometry is not None:
-        draw_grid_figure(figure, rows, columns, pictures, settings.label, out_png, geometry)
+        draw_grid_figure(figure, rows, columns, pictures, settings, out_png, geometry)
     else:
-        panels = draw_spectra_figure(rows, columns, results, settings.label, out_png)
+        panels = draw_spectra_figure(rows, columns, results, settings, out_png)
         spectra = write_spectra_csv(panels, out_png.with_name(out_png.stem + "_spectra.csv"))
-    records = [record_of(figure, r, settings.label, colours.get((r.plan.i, r.plan.j))) for r in results]
+    records = [record_of(figure, r, settings, colours.get((r.plan.i, r.plan.j))) for r in results]
     csv_path = write_csv(records, out_png.with_suffix(".csv"))
     report = None
     if report_path is not None:

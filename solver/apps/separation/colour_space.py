@@ -1,8 +1,8 @@
 """Colours of the separation: 8-bit sRGB pixels and printed reflectances in CIELAB.
 
 Pixels are sRGB (IEC 61966-2-1) under D65: decoded, converted to XYZ and to CIELAB relative to
-the sRGB white (`solver.colour`). A printed colour is the model's reflectance under D65
-(`solver.colour.reflectance_to_xyz`, a linear map of the spectrum) in CIELAB relative to
+the sRGB white (`solver.colour.srgb`). A printed colour is the model's reflectance under D65
+(ASTM E308 weights, `solver.colour.cie`, a linear map of the spectrum) in CIELAB relative to
 
 - `relative` (default): the bare paper's XYZ — media-relative colorimetry, the paper is the
   image's white (an image white of 255 prints as bare paper);
@@ -17,10 +17,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from solver.colour import linear_srgb_to_lab, reflectance_to_xyz, xyz_to_lab
+from solver.colour import srgb
+from solver.colour.cie import delta_e76, delta_e2000, spectra_to_xyz, xyz_to_lab  # noqa: F401 (re-exported)
 
 INTENTS = ("relative", "absolute")
 DEFAULT_INTENT = "relative"
+#: the separation's colorimetry (the sRGB image's own illuminant)
+ILLUMINANT, OBSERVER = "D65", "2"
 
 
 def check_intent(intent: str) -> str:
@@ -30,48 +33,24 @@ def check_intent(intent: str) -> str:
     return intent
 
 
-def decode_srgb(encoded) -> np.ndarray:
-    """Inverse sRGB transfer function: encoded values in [0, 1] → linear (IEC 61966-2-1)."""
-    x = np.asarray(encoded, dtype=np.float64)
-    return np.where(x <= 0.04045, x / 12.92, np.power((x + 0.055) / 1.055, 2.4))
-
-
 def srgb8_to_lab(pixels) -> np.ndarray:
     """CIELAB (D65, the sRGB white at L* = 100) of 8-bit sRGB colours [..., 3]."""
-    return linear_srgb_to_lab(decode_srgb(np.asarray(pixels, dtype=np.float64) / 255.0))
+    return srgb.srgb8_to_lab(pixels, ILLUMINANT, OBSERVER)
 
 
 def xyz_matrix(wavelengths_nm) -> np.ndarray:
-    """[nλ, 3]: XYZ under D65 (white reflector Y = 1) = reflectance @ matrix, for spectra on
-    `wavelengths_nm` (reflectance_to_xyz is linear in the spectrum)."""
+    """[nλ, 3]: XYZ (white reflector Y = 1) = reflectance @ matrix, for spectra on
+    `wavelengths_nm` (the tristimulus weighting is linear in the spectrum)."""
     wl = np.asarray(wavelengths_nm, dtype=np.float64)
-    return reflectance_to_xyz(wl, np.eye(wl.size))
+    return spectra_to_xyz(wl, np.eye(wl.size), ILLUMINANT, OBSERVER)
 
 
 def lab_from_xyz(xyz, white_xyz) -> np.ndarray:
     """CIELAB of XYZ [..., 3] relative to `white_xyz` (3 values)."""
-    return xyz_to_lab(xyz, white=np.asarray(white_xyz, dtype=np.float64))
-
-
-def delta_e76(lab1, lab2) -> np.ndarray:
-    """CIE 1976 colour difference (Euclidean distance in CIELAB)."""
-    return np.linalg.norm(np.asarray(lab1, dtype=np.float64) - np.asarray(lab2, dtype=np.float64), axis=-1)
-
-
-def delta_e2000(lab1, lab2) -> np.ndarray:
-    """CIE DE2000 colour difference (colour-science's implementation)."""
-    from colour.difference import delta_E_CIE2000
-
-    return np.asarray(delta_E_CIE2000(np.asarray(lab1, dtype=np.float64), np.asarray(lab2, dtype=np.float64)))
+    return xyz_to_lab(xyz, np.asarray(white_xyz, dtype=np.float64))
 
 
 def lab_to_srgb8(lab) -> np.ndarray:
-    """8-bit sRGB of CIELAB colours taken relative to the sRGB white (a soft proof: a print's
-    Lab relative to its paper shows the paper as display white), clipped to the sRGB gamut."""
-    from colour import Lab_to_XYZ
-
-    from solver.colour import encode_srgb, xyz_to_linear_srgb
-
-    d65_xy = np.array([0.3127, 0.3290])
-    xyz = Lab_to_XYZ(np.asarray(lab, dtype=np.float64), d65_xy)
-    return np.round(255.0 * encode_srgb(xyz_to_linear_srgb(xyz))).astype(np.uint8)
+    """8-bit sRGB of CIELAB colours taken relative to the measurement white (a soft proof: a
+    print's Lab relative to its paper shows the paper as display white), clipped to the sRGB gamut."""
+    return srgb.lab_to_srgb8(lab, ILLUMINANT, OBSERVER)

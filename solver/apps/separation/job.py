@@ -18,11 +18,12 @@ from pathlib import Path
 
 import numpy as np
 
+from solver.paper import PAPER_ALBEDO, check_paper_albedo
 from solver.printing import COVERAGE_MODELS, PrintedInks
 from .colour_space import DEFAULT_INTENT, check_intent
 from .halftone import Dots, TexelGrid, halftone_ink, print_size
 from .image import write_grey_png
-from .printmodel import DEFAULT_PAPER, PrintColourModel
+from .printmodel import PrintColourModel
 from .screens import screen_angles
 from .separate import ImageSeparation, separate_image
 from .solve import SolverSettings
@@ -47,7 +48,7 @@ class PrintSettings:
     inks: tuple[str, ...]                         # ink specs in printing order (printset)
     dots: Dots = Dots("none")
     coverage_model: str = AUTO_MODEL
-    paper: float = DEFAULT_PAPER                  # paper albedo
+    paper: float = PAPER_ALBEDO                   # paper albedo
     size_cm: tuple = (DEFAULT_WIDTH_CM, None)     # (width, height or None: the image's aspect)
     dpi: float | None = None                      # texture resolution (None: halftone.default_dpi)
     intent: str = DEFAULT_INTENT
@@ -56,8 +57,7 @@ class PrintSettings:
     def __post_init__(self):
         resolve_coverage_model(self.coverage_model, self.dots)
         check_intent(self.intent)
-        if not 0.0 <= float(self.paper) <= 1.0:
-            raise ValueError(f"paper albedo must lie in [0, 1], got {self.paper}")
+        check_paper_albedo(self.paper)
         if self.dpi is not None and not self.dpi > 0:
             raise ValueError(f"dpi must be positive, got {self.dpi}")
 

@@ -15,10 +15,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from solver.paper import PAPER_ALBEDO
 from solver.printing import DEFAULT_COVERAGE_MODEL, PrintedInks, ReflectancePredictor
 from .colour_space import DEFAULT_INTENT, check_intent, lab_from_xyz, xyz_matrix
 
-DEFAULT_PAPER = 0.9
 DEFAULT_VIEW_RAD = 0.0
 
 
@@ -32,7 +32,7 @@ class PrintColourModel:
     intent: str
 
     @classmethod
-    def build(cls, printed: PrintedInks, paper=DEFAULT_PAPER, coverage_model: str = DEFAULT_COVERAGE_MODEL,
+    def build(cls, printed: PrintedInks, paper=PAPER_ALBEDO, coverage_model: str = DEFAULT_COVERAGE_MODEL,
               intent: str = DEFAULT_INTENT, view_rad: float = DEFAULT_VIEW_RAD,
               specular: bool = True) -> "PrintColourModel":
         check_intent(intent)
