@@ -7,6 +7,7 @@
     python -m benchmarks.bench_geometry --limits           # search the reachable concentrations (slow)
     python -m benchmarks.bench_geometry --variants         # the packer's alternatives tried and dropped
     python -m benchmarks.bench_geometry --skip-speed --limits --only spheroid   # cases whose spec contains TEXT
+    python -m benchmarks.bench_geometry --skip-speed --shapes  # placement of spheroids beside cylinders
 
 Per speed case: seconds for placement (`generate`) and voxelisation separately (wall clock and
 process CPU), particle count, achieved fractions, relative error of the grid's pigment volume,
@@ -89,6 +90,8 @@ LIMIT_CASES = [
     ("spheroid:300:aspect=4", 2000.0, (0.45, 0.50, 0.55)),
     ("spheroid:300:aspect=4:vertical", 2000.0, (0.40, 0.45, 0.50)),
     ("spheroid:300:aspect=0.25:vertical", 2000.0, (0.45, 0.50, 0.55)),
+    ("spheroid:100:aspect=4:vertical:tilt=30", 1000.0, (0.45, 0.50, 0.55)),
+    ("spheroid:100:aspect=0.25:vertical:tilt=30", 1000.0, (0.50, 0.55)),
 ]
 
 #: Runs one speed case with whatever `solver.geometry` is first on the path (public API only).
@@ -230,6 +233,34 @@ VARIANT_CASES = [
 ]
 
 
+#: Placement of spheroids side by side with the cylinders whose cost model was fitted on the quiet
+#: reference machine: (ink, cell nm) × orientation × (cylinder, needles, flakes), 100 nm, seed 1.
+SHAPE_CASES = [(ink, cell, f"{shape}:{orientation}" if orientation else shape)
+               for ink, cell in (("B15", 2000.0), ("B30", 2000.0), ("B50", 1000.0))
+               for orientation in ("isotropic", "inplane", "vertical")
+               for shape in ("cylinder:100", "spheroid:100:aspect=3", "spheroid:100:aspect=0.25")] + [
+    ("Y7.5+B7.5", 1000.0, f"{shape}:agglutinated")
+    for shape in ("cylinder:100", "spheroid:100:aspect=3", "spheroid:100:aspect=0.25")]
+
+
+def shape_cases():
+    """Placement (generate) of each shape in one run: wall and process CPU seconds, and the CPU
+    ratio to the cylinders of the same ink and orientation (load-independent, side by side)."""
+    print(f"{'case':58s} {'grains':>7s} {'wall s':>8s} {'CPU s':>8s} {'CPU / cylinder':>15s}")
+    reference = {}
+    for ink, cell, particles in SHAPE_CASES:
+        layer = LayerSpec(parse_ink(ink), parse_particles(particles), 1000.0, (cell, cell))
+        t0, c0 = time.perf_counter(), time.process_time()
+        real = generate(layer, 1)
+        wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+        key = (ink, layer.particles.orientation, layer.particles.agglutination_kT)
+        if layer.particles.shape.name == "cylinder":
+            reference[key] = cpu
+        ratio = cpu / reference[key] if key in reference else float("nan")
+        print(f"{ink + ' ' + particles + f' {cell:g}':58s} {len(real.radii_nm):7d} {wall:8.2f} {cpu:8.2f} "
+              f"{ratio:15.2f}", flush=True)
+
+
 def variant_cases():
     """Placement alone with one knob changed: iterations, seconds, converged."""
     for ink, particles, cell, label, overrides, start in selected(VARIANT_CASES, 1):
@@ -290,6 +321,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--variants", action="store_true", help="time the packer's dropped alternatives")
     parser.add_argument("--skip-speed", action="store_true", help="no speed cases")
     parser.add_argument("--only", metavar="TEXT", help="only the cases whose particle spec contains TEXT")
+    parser.add_argument("--shapes", action="store_true", help="placement of spheroids beside cylinders")
     args = parser.parse_args([] if argv is None else argv)
     ONLY[0] = args.only
     if not args.skip_speed:
@@ -302,6 +334,9 @@ def main(argv: list[str] | None = None) -> int:
     if args.cost:
         print("== geometry_cost against measurements (seed 1, wall clock)")
         cost_cases()
+    if args.shapes:
+        print("== placement of each shape, side by side (seed 1, H = 1000 nm)")
+        shape_cases()
     if args.variants:
         print("== packer variants (placement only, seed 1, H = 1000 nm)")
         variant_cases()

@@ -10,14 +10,16 @@ import math
 import numpy as np
 import pytest
 
-from solver.geometry import LayerSpec, ParticleSpecError, find_overlaps, generate, parse_particles, voxelize
+from solver.geometry import (LayerSpec, ParticleSpecError, UnreachableConcentrationError, draw_grains, find_overlaps,
+                             generate, geometry_cost, parse_particles, voxelize)
 from solver.geometry.bodies import Bodies
 from solver.geometry.contacts import horizontal_separation, separation
+from solver.geometry.limits import reachable_limit
 from solver.geometry.depolarisation import local_field_of
 from solver.geometry.neighbours import neighbour_pairs
 from solver.geometry.orientation import sample_orientations
 from solver.geometry.shapes.sphere import Sphere
-from solver.geometry.shapes.spheroid import ASPECT_RANGE, Spheroid
+from solver.geometry.shapes.spheroid import Spheroid
 from solver.geometry.statistics import wall_violations
 from solver.inks import parse_ink
 
@@ -267,6 +269,25 @@ def test_packed_spheroid_layers_do_not_overlap(particles):
         assert abs(az.mean() - 0.5) < 5 / math.sqrt(12 * len(az)) + 0.03
     if spec.rough_top:
         assert real.z_range_nm[0] < 0 and np.allclose(vox.fractions.sum(axis=0), 1.0, atol=1e-6)
+
+
+@pytest.mark.parametrize("particles", ["spheroid:100:aspect=4", "spheroid:100:aspect=0.25:inplane:tilt=10",
+                                       "spheroid:150:aspect=2:vertical:agglutinated:rough"])
+def test_cost_estimate_counts_the_grains(particles):
+    layer = LayerSpec(parse_ink("B30"), parse_particles(particles), 500.0, (700.0, 700.0))
+    cost = geometry_cost(layer, (32, 32, 16))
+    assert cost.grains == len(draw_grains(layer, 0)) and cost.seconds > 0 and cost.peak_bytes > 0
+
+
+def test_tall_vertical_needles_are_refused_before_any_work():
+    """Needles too tall to stack two in the layer cannot pack as densely: B50 is refused at once,
+    with the limit, and their tilted or shorter kin are accepted higher."""
+    tall = LayerSpec(parse_ink("B50"), parse_particles("spheroid:300:aspect=4:vertical"))
+    with pytest.raises(UnreachableConcentrationError) as info:
+        generate(tall, 0)
+    assert "reachable limit" in str(info.value) and info.value.limit < 0.5
+    short = LayerSpec(parse_ink("B50"), parse_particles("spheroid:100:aspect=4:vertical"))
+    assert reachable_limit(short) > info.value.limit
 
 
 def test_binder_over_a_protruding_spheroid_of_aspect_one_is_the_spheres():

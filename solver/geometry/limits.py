@@ -39,7 +39,7 @@ def aligned_column_bound(layer: LayerSpec) -> float | None:
 def reachable_limit(layer: LayerSpec) -> float:
     """Largest total pigment volume fraction the generator accepts for this layer."""
     spec = layer.particles
-    return min(spec.shape.packer_limit(spec), spec.shape.geometric_limit(layer))
+    return min(spec.shape.packer_limit(layer), spec.shape.geometric_limit(layer))
 
 
 def smallest_tilt_reaching(layer: LayerSpec, tilts_deg=DEFAULT_TILTS_DEG) -> float | None:

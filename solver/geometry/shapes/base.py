@@ -203,9 +203,9 @@ class Shape:
         return f
 
     # ------------------------------------------------------------------ placement limits
-    def packer_limit(self, spec: ParticleSpec) -> float:
-        """Largest total fraction the packer is trusted to reach for this spec (`limits`)."""
-        return self.packer_limits[spec.orientation]
+    def packer_limit(self, layer: LayerSpec) -> float:
+        """Largest total fraction the packer is trusted to reach for this layer (`limits`)."""
+        return self.packer_limits[layer.particles.orientation]
 
     def geometric_limit(self, layer: LayerSpec) -> float:
         """A rigorous geometric bound of the fraction (times the packer's share of it) where one

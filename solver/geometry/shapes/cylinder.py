@@ -308,8 +308,9 @@ class Cylinder(Shape):
         return np.concatenate(pts, axis=0)
 
     # ------------------------------------------------------------------ placement limits
-    def packer_limit(self, spec):
+    def packer_limit(self, layer):
         """Tilted vertical cylinders keep their drawn axes: TILTED_VERTICAL_LIMIT."""
+        spec = layer.particles
         if spec.orientation == "vertical" and spec.tilt_rad > 0:
             return next(limit for tilt, limit in TILTED_VERTICAL_LIMIT if spec.tilt_deg <= tilt)
         return self.packer_limits[spec.orientation]
