@@ -64,7 +64,7 @@ class PackOptions:
     rounds: int = 2                 # active-set rounds (candidate rows of turning rods)
     tolerance: float = 0.5          # a solve stops when every row is within this × margin of its target
     max_iterations: int = 2000
-    search_iterations: int = 1      # cylinder separating-axis refinement per iteration
+    search_iterations: int = 1      # separating-axis refinement per iteration (cylinders)
     full_search_every: int = 8      # full axis search every k-th iteration (else warm local search)
     max_tilt: float = 0.35          # free rotation: largest angle (rad) from the drawn axis
     patience: int = 15              # iterations without progress before the horizontal escape

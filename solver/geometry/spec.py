@@ -12,6 +12,8 @@
                                  length 6 radii; orientation isotropic | inplane | vertical
     cylinder:300:vertical:tilt=15   axes spread uniformly over the cone of half-angle 15° about
                                  the vertical (inplane: elevation within ±15° of the layer plane)
+    spheroid:200:aspect=0.25:vertical   oblate spheroids (flakes, axis ratio 0.25) of effective
+                                 diameter 200 nm, lying flat (their axes vertical)
 
 The first word names the shape (`shapes.SHAPES`; PARTICLE_GRAMMAR lists each one's fragment);
 the shape reads its own modifiers.  Lengths are in nm.  `ParticleSpec.label` is the canonical
