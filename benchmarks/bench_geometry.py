@@ -6,6 +6,8 @@
     python -m benchmarks.bench_geometry --cost             # geometry_cost's estimates against measurements
     python -m benchmarks.bench_geometry --limits           # search the reachable concentrations (slow)
     python -m benchmarks.bench_geometry --variants         # the packer's alternatives tried and dropped
+    python -m benchmarks.bench_geometry --skip-speed --limits --only spheroid   # cases whose spec contains TEXT
+    python -m benchmarks.bench_geometry --skip-speed --shapes  # placement of spheroids beside cylinders
 
 Per speed case: seconds for placement (`generate`) and voxelisation separately (wall clock and
 process CPU), particle count, achieved fractions, relative error of the grid's pigment volume,
@@ -57,6 +59,11 @@ COST_CASES = [
     ("B50", "cylinder:100:inplane", 1000.0), ("B30", "cylinder:100:vertical", 2000.0),
     ("B50", "cylinder:100:vertical", 1000.0), ("B30", "cylinder:200:isotropic", 2000.0),
     ("B30", "cylinder:300:inplane", 2000.0), ("Y7.5+B7.5", "sphere:100:agglutinated", 1000.0),
+    ("B15", "spheroid:100:aspect=3", 2000.0), ("B30", "spheroid:100:aspect=3", 2000.0),
+    ("B50", "spheroid:100:aspect=3", 1000.0), ("B30", "spheroid:100:aspect=3:inplane", 2000.0),
+    ("B50", "spheroid:100:aspect=3:inplane", 1000.0), ("B30", "spheroid:100:aspect=3:vertical", 2000.0),
+    ("B50", "spheroid:100:aspect=3:vertical", 1000.0), ("B30", "spheroid:200:aspect=0.25:vertical", 2000.0),
+    ("Y7.5+B7.5", "spheroid:100:aspect=3:agglutinated", 1000.0),
 ]
 
 LIMIT_CASES = [
@@ -74,6 +81,17 @@ LIMIT_CASES = [
     ("cylinder:100:inplane:tilt=15", 1000.0, (0.50, 0.55)),
     ("cylinder:100:vertical:tilt=15", 1000.0, (0.45, 0.50)),
     ("cylinder:300:vertical:tilt=15", 2000.0, (0.38, 0.40, 0.42, 0.44)),
+    ("spheroid:100:aspect=4", 1000.0, (0.50, 0.55, 0.58)),
+    ("spheroid:100:aspect=4:inplane", 1000.0, (0.50, 0.55, 0.58)),
+    ("spheroid:100:aspect=4:vertical", 1000.0, (0.50, 0.55, 0.58)),
+    ("spheroid:100:aspect=0.25", 1000.0, (0.50, 0.55, 0.58)),
+    ("spheroid:100:aspect=0.25:inplane", 1000.0, (0.50, 0.55, 0.58)),
+    ("spheroid:100:aspect=0.25:vertical", 1000.0, (0.50, 0.55, 0.58)),
+    ("spheroid:300:aspect=4", 2000.0, (0.45, 0.50, 0.55)),
+    ("spheroid:300:aspect=4:vertical", 2000.0, (0.40, 0.45, 0.50)),
+    ("spheroid:300:aspect=0.25:vertical", 2000.0, (0.45, 0.50, 0.55)),
+    ("spheroid:100:aspect=4:vertical:tilt=30", 1000.0, (0.45, 0.50, 0.55)),
+    ("spheroid:100:aspect=0.25:vertical:tilt=30", 1000.0, (0.50, 0.55)),
 ]
 
 #: Runs one speed case with whatever `solver.geometry` is first on the path (public API only).
@@ -135,7 +153,7 @@ def speed_case(case, seed=1):
         p = real.stats.pack
         print(f"  packer: {p.iterations} iterations, {p.rebuilds} list builds, escapes {p.escapes}, "
               f"{p.seconds:.2f} s; RSA {real.stats.rsa_tries} tries at size x{real.stats.rsa_scale:.3f}")
-    if real.shape == "cylinder":
+    if real.shape.oriented:
         print(f"  <|a_z|> = {np.mean(np.abs(real.axes[:, 2])):.3f}")
     print(f"  grid pigment volume / particle volume - 1 = {grid_volume / exact - 1:+.2e}; "
           f"overlapping pairs {len(find_overlaps(real))}")
@@ -155,7 +173,7 @@ def compare(baseline_rev: str | None):
         print(f"{'case':40s} " + "  ".join(f"{name + ': place / cpu / voxelise / peak (generate) / grid err':65s}"
                                            for name, _ in trees)
               + ("  ratio old/new (place, total)" if baseline_rev else ""))
-        for case in SPEED_CASES:
+        for case in selected(SPEED_CASES, 1):
             rows = []
             for _, path in trees:
                 timed = run_case(path, case, trace=False)
@@ -176,7 +194,7 @@ def cost_cases():
     """geometry_cost's estimates against measured time and traced peak memory."""
     print(f"{'case':50s} {'grains (est/made)':>18s} {'seconds (est/meas)':>20s} {'peak MiB (est/meas)':>20s}")
     worst_t, worst_m = 1.0, 1.0
-    for ink, particles, cell in COST_CASES:
+    for ink, particles, cell in selected(COST_CASES, 1):
         layer = LayerSpec(parse_ink(ink), parse_particles(particles), 1000.0, (cell, cell))
         for grid in ((64, 64, 32), GRID):
             est = geometry_cost(layer, grid)
@@ -215,9 +233,37 @@ VARIANT_CASES = [
 ]
 
 
+#: Placement of spheroids side by side with the cylinders whose cost model was fitted on the quiet
+#: reference machine: (ink, cell nm) × orientation × (cylinder, needles, flakes), 100 nm, seed 1.
+SHAPE_CASES = [(ink, cell, f"{shape}:{orientation}" if orientation else shape)
+               for ink, cell in (("B15", 2000.0), ("B30", 2000.0), ("B50", 1000.0))
+               for orientation in ("isotropic", "inplane", "vertical")
+               for shape in ("cylinder:100", "spheroid:100:aspect=3", "spheroid:100:aspect=0.25")] + [
+    ("Y7.5+B7.5", 1000.0, f"{shape}:agglutinated")
+    for shape in ("cylinder:100", "spheroid:100:aspect=3", "spheroid:100:aspect=0.25")]
+
+
+def shape_cases():
+    """Placement (generate) of each shape in one run: wall and process CPU seconds, and the CPU
+    ratio to the cylinders of the same ink and orientation (load-independent, side by side)."""
+    print(f"{'case':58s} {'grains':>7s} {'wall s':>8s} {'CPU s':>8s} {'CPU / cylinder':>15s}")
+    reference = {}
+    for ink, cell, particles in SHAPE_CASES:
+        layer = LayerSpec(parse_ink(ink), parse_particles(particles), 1000.0, (cell, cell))
+        t0, c0 = time.perf_counter(), time.process_time()
+        real = generate(layer, 1)
+        wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+        key = (ink, layer.particles.orientation, layer.particles.agglutination_kT)
+        if layer.particles.shape.name == "cylinder":
+            reference[key] = cpu
+        ratio = cpu / reference[key] if key in reference else float("nan")
+        print(f"{ink + ' ' + particles + f' {cell:g}':58s} {len(real.radii_nm):7d} {wall:8.2f} {cpu:8.2f} "
+              f"{ratio:15.2f}", flush=True)
+
+
 def variant_cases():
     """Placement alone with one knob changed: iterations, seconds, converged."""
-    for ink, particles, cell, label, overrides, start in VARIANT_CASES:
+    for ink, particles, cell, label, overrides, start in selected(VARIANT_CASES, 1):
         layer = LayerSpec(parse_ink(ink), parse_particles(particles), 1000.0, (cell, cell))
         grains = draw_grains(layer, 1)
         options = PackOptions(**dict({"max_iterations": 1500}, **overrides))
@@ -229,6 +275,15 @@ def variant_cases():
             outcome = f"NOT converged in {options.max_iterations} iterations"
         print(f"  {ink + ' ' + particles + f' {cell:g} nm':38s} {label:45s} {outcome:34s} "
               f"{time.perf_counter() - t0:6.2f} s", flush=True)
+
+
+#: `--only TEXT`: run only the cases whose particle spec contains TEXT (None: all)
+ONLY: list[str | None] = [None]
+
+
+def selected(cases, column: int) -> list:
+    """The cases whose particle spec (at `column`) contains the --only text."""
+    return [c for c in cases if ONLY[0] is None or ONLY[0] in c[column]]
 
 
 def limit_case(particles, cell, ladder, thickness=1000.0, seed=1):
@@ -244,7 +299,7 @@ def limit_case(particles, cell, ladder, thickness=1000.0, seed=1):
         except ValueError:
             ok = False
         extra = ""
-        if ok and grains.bodies.shape == "cylinder":
+        if ok and grains.bodies.shape.oriented:
             extra = (f", <|a_z|> {np.mean(np.abs(placed.axes[:, 2])):.3f} "
                      f"(drawn {np.mean(np.abs(grains.bodies.axes[:, 2])):.3f})")
         print(f"  {particles:30s} {100 * phi:5.1f}%: {'reached' if ok else 'NOT reached'} "
@@ -265,23 +320,29 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--limits", action="store_true", help="also search the reachable concentrations")
     parser.add_argument("--variants", action="store_true", help="time the packer's dropped alternatives")
     parser.add_argument("--skip-speed", action="store_true", help="no speed cases")
+    parser.add_argument("--only", metavar="TEXT", help="only the cases whose particle spec contains TEXT")
+    parser.add_argument("--shapes", action="store_true", help="placement of spheroids beside cylinders")
     args = parser.parse_args([] if argv is None else argv)
+    ONLY[0] = args.only
     if not args.skip_speed:
         print(f"== speed: generate + voxelize {GRID}, seed 1 (budgets: spheres placement + voxelisation "
               f"10 s, cylinders placement {CYLINDER_BUDGET_S:g} s)")
-        for case in SPEED_CASES:
+        for case in selected(SPEED_CASES, 1):
             speed_case(case)
         print("== timings in fresh processes (wall / CPU of placement, voxelisation, peak traced memory)")
         compare(args.baseline)
     if args.cost:
         print("== geometry_cost against measurements (seed 1, wall clock)")
         cost_cases()
+    if args.shapes:
+        print("== placement of each shape, side by side (seed 1, H = 1000 nm)")
+        shape_cases()
     if args.variants:
         print("== packer variants (placement only, seed 1, H = 1000 nm)")
         variant_cases()
     if args.limits:
         print("== reachable concentrations (thickness 1000 nm)")
-        for particles, cell, ladder in LIMIT_CASES:
+        for particles, cell, ladder in selected(LIMIT_CASES, 0):
             limit_case(particles, cell, ladder)
     return 0
 

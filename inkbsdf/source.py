@@ -148,14 +148,14 @@ class _Params(dict):
 
 def _member_request(member):
     """The request of one ink of an overprint: from its scene parameters, or read back from the
-    meta of its table file (every setting: TableRequest.from_meta)."""
+    meta of its table file (every setting: TableRequest.of_table)."""
     from solver.table import read_table
     from solver.table.request import TableRequest
 
     params = _Params(member.params)
     if "ink" in params:
         return table_request(params)
-    return TableRequest.from_meta(read_table(params["filename"]).meta)
+    return TableRequest.of_table(read_table(params["filename"]))
 
 
 def stack_lut(members) -> InkLUT:

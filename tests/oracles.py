@@ -10,7 +10,9 @@ arrays are read):
   quadrature to integrate it;
 - the `ink` BSDF (docs/design.md §1): the smooth lobes' f·cos θo of one ink under either
   coverage model, its delta lobe (selection probability and weight), its directional albedo;
-- polarisation: the Mueller matrix of a Jones matrix diag(a_s, a_p).
+- polarisation: the Mueller matrix of a Jones matrix diag(a_s, a_p);
+- ellipsoids: the depolarisation factor by its integral, the shape matrix of a spheroid, Perram & Wertheim's overlap function, the distance
+  of two ellipsoids by constrained minimisation.
 
 Conventions as the solver's (docs/design.md §1, §4): nm, radians, e^(−iωt), z downward.
 """
@@ -227,3 +229,70 @@ def jones_to_mueller(a_s, a_p):
     m = np.einsum("ij,jk...,kl->il...", A, jj, np.linalg.inv(A))
     assert np.max(np.abs(m.imag)) < 1e-12
     return m.real
+
+
+# ------------------------------------------------------------------------------ ellipsoids
+def depolarisation_integral(a: float, b: float, c: float) -> float:
+    """L along semi-axis a of the ellipsoid (a, b, c): (abc/2) ∫₀^∞ ds / ((s + a²) √((s+a²)(s+b²)(s+c²)))."""
+    f = lambda s: 1.0 / ((s + a * a) * math.sqrt((s + a * a) * (s + b * b) * (s + c * c)))  # noqa: E731
+    return 0.5 * a * b * c * quad(f, 0.0, np.inf, limit=200)[0]
+
+
+def spheroid_matrix(equatorial_nm, polar_nm, axis) -> np.ndarray:
+    """Shape matrix M = R·diag(r², r², h²)·Rᵀ of spheroids with equatorial semi-axes r and polar
+    semi-axes h along the unit axes (R's last column): each body is {x : xᵀ M⁻¹ x ≤ 1}.
+    r, h (...,), axis (..., 3) → (..., 3, 3)."""
+    axis = np.asarray(axis, dtype=float)
+    axis = axis / np.linalg.norm(axis, axis=-1, keepdims=True)
+    helper = np.where((np.abs(axis[..., 0]) < 0.9)[..., None], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0])
+    e1 = helper - np.sum(helper * axis, axis=-1, keepdims=True) * axis
+    e1 /= np.linalg.norm(e1, axis=-1, keepdims=True)
+    rot = np.stack([e1, np.cross(axis, e1), axis], axis=-1)
+    r2, h2 = np.asarray(equatorial_nm, dtype=float) ** 2, np.asarray(polar_nm, dtype=float) ** 2
+    diag = np.stack([r2, r2, h2], axis=-1)
+    return np.einsum("...ik,...k,...jk->...ij", rot, diag, rot)
+
+
+def perram_wertheim(d, m_a, m_b, steps: int = 60) -> np.ndarray:
+    """Perram & Wertheim's contact function (J. Comput. Phys. 58, 409, 1985) of ellipsoids with
+    shape matrices m_a, m_b (..., 3, 3) and centres d (..., 3) apart: the maximum over λ ∈ [0, 1]
+    of F(λ) = λ(1 − λ)·dᵀ[(1 − λ)A + λB]⁻¹d, by golden section (F is concave in λ).
+    < 1: they overlap; 1: they touch; > 1: they are apart."""
+    d, m_a, m_b = (np.asarray(x, dtype=float) for x in (d, m_a, m_b))
+
+    def f(lam):
+        mix = (1 - lam)[..., None, None] * m_a + lam[..., None, None] * m_b
+        return lam * (1 - lam) * np.einsum("...i,...i->...", d, np.linalg.solve(mix, d[..., None])[..., 0])
+
+    ratio = (math.sqrt(5.0) - 1.0) / 2.0
+    lo, hi = np.zeros(d.shape[:-1]), np.ones(d.shape[:-1])
+    x1, x2 = hi - ratio * (hi - lo), lo + ratio * (hi - lo)
+    f1, f2 = f(x1), f(x2)
+    for _ in range(steps):
+        left = f1 >= f2                               # the maximum lies in [lo, x2]
+        hi, lo = np.where(left, x2, hi), np.where(left, lo, x1)
+        new = np.where(left, hi - ratio * (hi - lo), lo + ratio * (hi - lo))
+        fn = f(new)
+        x1, x2 = np.where(left, new, x2), np.where(left, x1, new)
+        f1, f2 = np.where(left, fn, f2), np.where(left, f1, fn)
+    return np.maximum(f1, f2)
+
+
+def ellipsoid_distance(d, m_a, m_b) -> float:
+    """Euclidean distance between ellipsoids centred at 0 and d (0 when they meet): min |x − y|
+    over xᵀA⁻¹x ≤ 1, (y − d)ᵀB⁻¹(y − d) ≤ 1, a convex problem solved by SLSQP from the centres."""
+    from scipy.optimize import minimize
+
+    d = np.asarray(d, dtype=float)
+    ia, ib = np.linalg.inv(m_a), np.linalg.inv(m_b)
+    scale = float(np.sqrt(max(np.linalg.eigvalsh(m_a).max(), np.linalg.eigvalsh(m_b).max())))
+    qa, qb, c = ia * scale**2, ib * scale**2, d / scale            # unknowns in units of `scale`
+    zero = np.zeros(3)
+    cons = [{"type": "ineq", "fun": lambda z: 1.0 - z[:3] @ qa @ z[:3],
+             "jac": lambda z: np.concatenate([-2.0 * qa @ z[:3], zero])},
+            {"type": "ineq", "fun": lambda z: 1.0 - (z[3:] - c) @ qb @ (z[3:] - c),
+             "jac": lambda z: np.concatenate([zero, -2.0 * qb @ (z[3:] - c)])}]
+    res = minimize(lambda z: float(np.sum((z[:3] - z[3:]) ** 2)), np.concatenate([zero, c]),
+                   jac=lambda z: np.concatenate([2.0 * (z[:3] - z[3:]), -2.0 * (z[:3] - z[3:])]),
+                   constraints=cons, method="SLSQP", options={"ftol": 1e-16, "maxiter": 500})
+    return scale * math.sqrt(max(res.fun, 0.0))

@@ -4,8 +4,12 @@ import numpy as np
 import pytest
 
 from solver.geometry.contact_solve import BodyRows, Contacts, solve_contacts, wall_rows
-from solver.geometry.contacts import separation, support_gap
-from solver.geometry.shapes import Bodies
+from solver.geometry.bodies import Bodies
+from solver.geometry.contacts import separation
+from solver.geometry.separating_axis import support_gap
+from solver.geometry.shapes.cylinder import Cylinder
+
+CYLINDER = Cylinder()
 
 
 def test_parallel_cylinders_are_separated_exactly():
@@ -18,7 +22,7 @@ def test_parallel_cylinders_are_separated_exactly():
     axis /= np.linalg.norm(axis)
     axis *= np.sign(axis[2])
     r, h = rng.uniform(10, 40, 2 * n), rng.uniform(20, 120, 2 * n)
-    bodies = Bodies("cylinder", r, h, np.tile(axis, (2 * n, 1)))
+    bodies = Bodies(CYLINDER, r, h, np.tile(axis, (2 * n, 1)))
     d = rng.normal(size=(n, 3)) * rng.uniform(0, 200, (n, 1))
     centres = np.concatenate([np.full((n, 3), 5000.0), 5000.0 + d])
     sep = separation(bodies, centres, np.arange(n), np.arange(n, 2 * n), (1e5, 1e5), margin_nm=1e9)
@@ -32,7 +36,7 @@ def test_parallel_cylinders_are_separated_exactly():
     dirs = rng.normal(size=(40000, 3))
     dirs /= np.linalg.norm(dirs, axis=1)[:, None]
     for p in range(0, n, 40):
-        brute = support_gap(dirs[None], d[p][None], axis[None], axis[None], r[p:p + 1], r[n + p:n + p + 1],
+        brute = support_gap(CYLINDER.width, dirs[None], d[p][None], axis[None], axis[None], r[p:p + 1], r[n + p:n + p + 1],
                             h[p:p + 1], h[n + p:n + p + 1]).max()
         assert brute <= sep.gap_nm[p] + 1e-9
 
@@ -85,6 +89,23 @@ def test_contact_solve_respects_the_walls():
     assert np.linalg.norm(new[1] - new[0]) >= 20.0 - 1e-4
 
 
+def test_contact_solve_with_candidate_rows_and_no_wall_rows():
+    """Kink rows that join only when violated (primary False) and no one-particle rows at all
+    (in-plane rods of an agglutinated layer away from the walls): the active-set round still
+    solves, and the row that joins is satisfied too."""
+    normal = np.array([[1.0, 0.0, 0.0], [1.0, 0.0, 0.0]])
+    lever = np.array([[0.0, 0.0, 5.0], [0.0, 0.0, -5.0]])
+    rows = Contacts(np.array([0, 0]), np.array([1, 1]), normal, np.array([-2.0, -4.0]), lever, -lever,
+                    primary=np.array([True, False]))
+    empty = BodyRows(np.zeros(0, dtype=int), np.zeros((0, 3)), None, np.zeros(0))
+    moves = solve_contacts(rows, empty, np.ones(2), np.full(2, 0.01), 0.5, sweeps=2000, tolerance_nm=1e-4)
+    assert moves.residual_nm <= 1e-3
+    du = moves.shift_nm[1] - moves.shift_nm[0]
+    for k in range(2):
+        predicted = rows.gap_nm[k] + normal[k] @ du + lever[k] @ (-moves.turn[1] - moves.turn[0])
+        assert predicted >= 0.5 - 1e-3
+
+
 @pytest.mark.parametrize("seed", [0, 1])
 def test_linearised_rotation_rows_predict_small_turns(seed):
     """In-plane rods turning about z: the candidate rows (both ends of a side contact) bound the
@@ -95,7 +116,7 @@ def test_linearised_rotation_rows_predict_small_turns(seed):
     n = 200
     phi = rng.uniform(0, 2 * np.pi, 2 * n)
     axes = np.stack([np.cos(phi), np.sin(phi), np.zeros(2 * n)], axis=1)
-    bodies = Bodies("cylinder", np.full(2 * n, 10.0), np.full(2 * n, 30.0), axes)
+    bodies = Bodies(CYLINDER, np.full(2 * n, 10.0), np.full(2 * n, 30.0), axes)
     d = rng.normal(size=(n, 3)) * np.array([40.0, 40.0, 5.0])
     xyz = np.concatenate([np.zeros((n, 3)), d]).T.copy()
     i, j = np.arange(n), np.arange(n, 2 * n)
@@ -103,9 +124,9 @@ def test_linearised_rotation_rows_predict_small_turns(seed):
     rows = contact_rows(bodies, xyz, i, j, sep.normal, sep.gap_nm, (1e5, 1e5), "z")
     turn = np.zeros((2 * n, 3))
     turn[:, 2] = rng.uniform(-0.02, 0.02, 2 * n)
-    moved = Bodies("cylinder", bodies.radii_nm, bodies.half_lengths_nm, turn_axes(axes, turn, "z"))
+    moved = bodies.turned(turn_axes(axes, turn, "z"))
     # g(n) at the same normal after the turn, from the support function (no search).
-    g_after = support_gap(sep.normal[:, None, :], d, moved.axes[i], moved.axes[j], moved.radii_nm[i],
+    g_after = support_gap(CYLINDER.width, sep.normal[:, None, :], d, moved.axes[i], moved.axes[j], moved.radii_nm[i],
                           moved.radii_nm[j], moved.half_lengths_nm[i], moved.half_lengths_nm[j])[:, 0]
     predicted = rows.gap_nm - np.einsum("pc,pc->p", rows.lever_i, turn[rows.i]) + \
         np.einsum("pc,pc->p", rows.lever_j, turn[rows.j])

@@ -8,8 +8,11 @@ import pytest
 from scipy.stats import kstest
 
 from solver.geometry import LayerSpec, cluster_statistic, find_overlaps, generate, pair_correlation, parse_particles
-from solver.geometry.contacts import separation, support_gap
-from solver.geometry.shapes import Bodies, sample_orientations
+from solver.geometry.bodies import Bodies
+from solver.geometry.contacts import separation
+from solver.geometry.orientation import sample_orientations
+from solver.geometry.separating_axis import support_gap
+from solver.geometry.shapes.cylinder import Cylinder
 from solver.geometry.statistics import wall_violations
 from solver.geometry.surface import binder_surface_nm
 from solver.inks import parse_ink
@@ -135,7 +138,7 @@ def test_separating_axis_search_agrees_with_point_sampling():
     rng = np.random.default_rng(7)
     n = 400
     r, h = np.full(n, 30.0), np.full(n, 90.0)
-    bodies = Bodies("cylinder", np.concatenate([r, r]), np.concatenate([h, h]),
+    bodies = Bodies(Cylinder(), np.concatenate([r, r]), np.concatenate([h, h]),
                     sample_orientations("isotropic", 2 * n, rng))
     d = rng.normal(size=(n, 3))
     d *= rng.uniform(10, 220, n)[:, None] / np.linalg.norm(d, axis=1)[:, None]
@@ -149,7 +152,7 @@ def test_separating_axis_search_agrees_with_point_sampling():
         if sep.gap_nm[p] >= 0:
             assert not shared
         # the returned axis separates the projections by at least the gap (a lower bound)
-        g = support_gap(sep.normal[p][None, None, :], d[p][None], a[i[p]][None], a[j[p]][None],
+        g = support_gap(bodies.shape.width, sep.normal[p][None, None, :], d[p][None], a[i[p]][None], a[j[p]][None],
                         r[:1], r[:1], h[:1], h[:1])[0, 0]
         assert g >= sep.gap_nm[p] - 1e-6
         deep = inside_cylinder(cylinder_points(d[p], a[j[p]], 28.0, 88.0, n_len=5, n_ring=8, n_rad=2),

@@ -5,8 +5,9 @@ import math
 import pytest
 
 from solver.geometry import (AGGLUTINATED_DEFAULT_KT, GeometryError, LayerSpec, ParticleSpec,
-                             ParticleSpecError, UnreachableConcentrationError, cylinder_radius_length,
-                             generate, parse_particles, reachable_limit)
+                             ParticleSpecError, UnreachableConcentrationError, generate, parse_particles,
+                             reachable_limit)
+from solver.geometry.shapes.cylinder import cylinder_radius_length
 from solver.geometry.spec import ROUGH_DEFAULT
 from solver.inks import parse_ink
 
@@ -34,7 +35,7 @@ def test_keywords_map_to_documented_defaults():
     assert parse_particles("sphere:300:rough").rough_top == ROUGH_DEFAULT
     assert parse_particles("sphere:300").rough_top == 0 and parse_particles("sphere:300").size_spread == 0
     spec = parse_particles("cylinder:200:inplane")
-    assert (spec.shape, spec.diameter_nm, spec.orientation) == ("cylinder", 200.0, "inplane")
+    assert (spec.shape.name, spec.diameter_nm, spec.orientation) == ("cylinder", 200.0, "inplane")
     # Equal specs written differently have one label (the cache key).
     assert parse_particles("sphere:100:agglutinated").label == parse_particles(
         f"sphere:100.0:agglutinated={AGGLUTINATED_DEFAULT_KT}").label
@@ -55,7 +56,7 @@ def test_cylinder_has_sphere_volume_and_six_radii():
     ("sphere:0", ["positive"]),
     ("sphere", ["lacks a diameter"]),
     ("sphere:abc", ["bad diameter"]),
-    ("sphere:100:vertical", ["cylinders only"]),
+    ("sphere:100:vertical", ["applies to", "cylinders", "not spheres"]),
     ("sphere:100:agglutinated=-1", ["agglutination", ">= 0"]),
     ("sphere:100:rough=1.5", ["rough top"]),
     ("", ["empty"]),

@@ -9,8 +9,8 @@ from scipy.stats import kstest, ks_2samp
 
 from solver.geometry import (DEFAULT_TILTS_DEG, GeometryError, LayerSpec, ParticleSpecError, find_overlaps, generate,
                              parse_particles, reachable_limit, smallest_tilt_reaching)
-from solver.geometry.shapes import sample_orientations
-from solver.geometry.spec import cylinder_radius_length
+from solver.geometry.orientation import sample_orientations
+from solver.geometry.shapes.cylinder import cylinder_radius_length
 from solver.geometry.statistics import wall_violations
 from solver.inks import parse_ink
 

@@ -3,25 +3,19 @@ their integral definition, orientation weights against sampled axes, and each la
 computed with its own grains' field."""
 
 import dataclasses
-import math
 
 import numpy as np
 import pytest
-from scipy.integrate import quad
 
 from solver.geometry import eps_grid, parse_particles
 from solver.geometry.depolarisation import local_field_of, mean_axis_z_squared, spheroid_axial_factor
-from solver.geometry.shapes import sample_orientations
+from solver.geometry.orientation import sample_orientations
 from solver.geometry.stacking import split_cells
 from solver.materials import SPHERE_FIELD, LocalField, default_materials, local_field_eps
 from solver.table.request import table_request
 from solver.table.wave_tier import GeometryUnit, cell_eps, geometry_unit
 
-
-def depolarisation_integral(a: float, b: float, c: float) -> float:
-    """L along semi-axis a of the ellipsoid (a, b, c): (abc/2) ∫₀^∞ ds / ((s + a²) √((s+a²)(s+b²)(s+c²)))."""
-    f = lambda s: 1.0 / ((s + a * a) * math.sqrt((s + a * a) * (s + b * b) * (s + c * c)))
-    return 0.5 * a * b * c * quad(f, 0.0, np.inf, limit=200)[0]
+from oracles import depolarisation_integral
 
 
 @pytest.mark.parametrize("aspect", [0.2, 0.5, 0.999, 1.0, 1.001, 2.0, 3.0, 10.0])

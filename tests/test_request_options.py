@@ -128,3 +128,26 @@ def test_the_key_is_computed_once_per_request(monkeypatch):
     monkeypatch.setattr(TableRequest, "numeric_fields", lambda self: calls.append(1) or real(self))
     fresh = dataclasses.replace(req)
     assert fresh.key() == fresh.key() == key and len(calls) == 1
+
+
+def test_a_film_made_directly_gives_its_request_back():
+    """A film built by the thin-film tier itself (no request record): its ink, thickness,
+    polarisation, pigment field and grids are all its numbers depend on."""
+    from solver.inks import parse_ink
+    from solver.materials import DISSOLVED_FIELD, default_materials
+    from solver.table.thinfilm_tier import build_stack_table, build_thinfilm_table
+
+    wl, sigma = np.arange(400.0, 701.0, 50.0), np.linspace(0, np.pi / 2, 7)
+    film = build_thinfilm_table(parse_ink("R30"), 900.0, wl, sigma, polarisation="te")
+    req = TableRequest.of_table(film)
+    assert req == make(dict(ink="R30", thickness_nm=900.0, wavelengths_nm=tuple(wl), sigma_rad=tuple(sigma),
+                            polarisation="te", local_field=False))
+    np.testing.assert_array_equal(build_table(req).Tbar, film.Tbar)
+    lf = build_stack_table([(parse_ink("Y15"), 800.0), (parse_ink("B15"), 600.0)], wl, sigma,
+                           default_materials().with_local_field(DISSOLVED_FIELD))
+    req = TableRequest.of_table(lf)
+    assert req.local_field and req.ink_label == "Y15/B15" and [l.thickness_nm for l in req.layers] == [800.0, 600.0]
+    np.testing.assert_allclose(build_table(req).Rbar, lf.Rbar, rtol=1e-12)
+    wave = dataclasses.replace(film, meta=dict(film.meta, tier="full", particles="sphere:100"))
+    with pytest.raises(RequestError, match="no request settings"):
+        TableRequest.of_table(wave)

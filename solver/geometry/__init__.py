@@ -10,20 +10,24 @@
 See docs/geometry.md for the algorithms and measured numbers.
 """
 
+from .bodies import Bodies
 from .cost import GeometryCost, geometry_cost
 from .generate import GENERATE_STAGES, GeneratorStats, Realization, generate
+from .grammar import ParticleSpecError
 from .limits import DEFAULT_TILTS_DEG, aligned_column_bound, reachable_limit, smallest_tilt_reaching
 from .placement import Placement, place
 from .populations import Grains, draw_grains
-from .spec import (AGGLUTINATED_DEFAULT_KT, GeometryError, LayerSpec, ParticleSpec, ParticleSpecError,
-                   UnreachableConcentrationError, cylinder_radius_length, parse_particles)
+from .shapes import SHAPES, Shape
+from .spec import (AGGLUTINATED_DEFAULT_KT, PARTICLE_GRAMMAR, PARTICLE_GRAMMAR_KEY, GeometryError, LayerSpec, ParticleSpec,
+                   UnreachableConcentrationError, parse_particles)
 from .statistics import ClusterStats, cluster_statistic, find_overlaps, pair_correlation
 from .voxelize import VoxelFractions, eps_grid, voxelize
 
 __all__ = [
-    "AGGLUTINATED_DEFAULT_KT", "ClusterStats", "DEFAULT_TILTS_DEG", "GENERATE_STAGES", "GeneratorStats",
-    "GeometryCost", "GeometryError", "Grains", "LayerSpec", "ParticleSpec", "ParticleSpecError", "Placement",
-    "Realization", "UnreachableConcentrationError", "VoxelFractions", "cluster_statistic", "cylinder_radius_length",
+    "AGGLUTINATED_DEFAULT_KT", "Bodies", "ClusterStats", "DEFAULT_TILTS_DEG", "GENERATE_STAGES", "GeneratorStats",
+    "GeometryCost", "GeometryError", "Grains", "LayerSpec", "PARTICLE_GRAMMAR", "PARTICLE_GRAMMAR_KEY", "ParticleSpec", "ParticleSpecError",
+    "Placement", "Realization", "SHAPES", "Shape", "UnreachableConcentrationError", "VoxelFractions",
+    "cluster_statistic",
     "draw_grains", "eps_grid", "find_overlaps", "generate", "geometry_cost", "pair_correlation", "parse_particles",
     "place", "reachable_limit", "smallest_tilt_reaching", "aligned_column_bound", "voxelize",
 ]

@@ -20,10 +20,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .bodies import Bodies
 from .motion import pair_normals_gaps, push_apart
 from .neighbours import PairList, spatial_order
 from .packing import PackOptions, PackStats, pack
-from .shapes import Bodies
 from .walls import Walls
 
 
@@ -68,12 +68,12 @@ def agglutinate(bodies: Bodies, walls: Walls, centres: np.ndarray, period_nm, st
         i, j = verlet.pairs(xyz, reach, reach)
         normal, gap = pair_normals_gaps(body, xyz, i, j, period_nm, verlet.hint, margin,
                                         pack_options.search_iterations)
-        if body.shape == "cylinder":
+        if body.shape.uses_axis_hint:
             verlet.hint = normal.T
         axes = push_apart(xyz, body, i, j, normal, gap, margin, period_nm, rotation, 1.0,
                           drawn, pack_options.max_tilt if rotation == "free" else np.pi)
         if axes is not body.axes:
-            body = Bodies(body.shape, body.radii_nm, body.half_lengths_nm, axes)
+            body = body.turned(axes)
         near = np.flatnonzero((gap >= 0) & (gap < options.cutoff * lam))
         if near.size and strength_kT > 0:
             ia, ja = i[near], j[near]
@@ -89,7 +89,7 @@ def agglutinate(bodies: Bodies, walls: Walls, centres: np.ndarray, period_nm, st
     out[perm] = xyz.T
     out_axes = np.empty((n, 3))
     out_axes[perm] = body.axes
-    final_centres, final_axes, stats = pack(Bodies(bodies.shape, bodies.radii_nm, bodies.half_lengths_nm, out_axes),
+    final_centres, final_axes, stats = pack(bodies.turned(out_axes),
                                             walls, out, period_nm, 1.0, pack_options, rotation,
                                             reference_axes,
                                             None if progress is None else (lambda f: progress(0.8 + 0.2 * f)))

@@ -125,8 +125,11 @@ def _row_owners(contacts: Contacts, body: BodyRows, rows: np.ndarray):
     """(first particle, second particle or −1) of the given rows (pairs first, then one-particle rows)."""
     c = len(contacts)
     pair = rows < c
-    first = np.where(pair, contacts.i[np.where(pair, rows, 0)], body.k[np.where(pair, 0, rows - c)])
-    second = np.where(pair, contacts.j[np.where(pair, rows, 0)], -1)
+    first = np.empty(rows.size, dtype=np.int64)
+    second = np.full(rows.size, -1, dtype=np.int64)
+    first[pair] = contacts.i[rows[pair]]
+    first[~pair] = body.k[rows[~pair] - c]          # (no gather from an empty array: no pair or no body row)
+    second[pair] = contacts.j[rows[pair]]
     return first, second
 
 

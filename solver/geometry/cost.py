@@ -7,16 +7,18 @@
   on the 2-core development machine (docs/geometry.md gives its accuracy):
   - placement: a fixed part (the packer's per-iteration overhead) plus grains × a cost per
     grain, both depending on the shape, the orientation mode and the total fraction φ (piecewise
-    linear in φ between measured points, `PLACE_COST`; growing geometrically beyond the last
-    point, where the packer nears its limit), plus the Brownian steps of agglutination;
-  - voxelisation: VOXEL_S_PER_LINE_STEP × (grains × sample lines in a grain's window × voxel
+    linear in φ between measured points, `Shape.place_cost`; growing geometrically beyond the
+    last point, where the packer nears its limit), plus the Brownian steps of agglutination
+    (`Shape.agglutination_cost`);
+  - voxelisation (the shape enters through its extents and its thinnest part): VOXEL_S_PER_LINE_STEP × (grains × sample lines in a grain's window × voxel
     layers it spans) + VOXEL_S_PER_GRAIN × grains + VOXEL_S_PER_VOXEL × voxels + VOXEL_S (+ the
     rough-top surface, per sample line);
-* peak_bytes: the larger of the generator's peak (GEN_BYTES + bytes per grain) and the
+* peak_bytes: the larger of the generator's peak (GEN_BYTES + `Shape.gen_bytes_per_grain` per
+  grain) and the
   voxeliser's (its chunk buffers plus the grid arrays), as traced by tracemalloc.
 
 Cheap: no particle is drawn or placed; orientation-dependent window sizes are averaged over a
-fixed quasi-random set of axes.
+fixed set of axes.
 """
 
 from __future__ import annotations
@@ -26,28 +28,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .limits import RSA_FRACTION
+from .bodies import Bodies
+from .orientation import sample_orientations
 from .populations import grain_count
-from .shapes import Bodies, sample_orientations
-from .spec import LayerSpec, cylinder_radius_length
+from .spec import LayerSpec
 from .voxelize import lines_per_voxel
 
-#: Placement cost against the total volume fraction φ, per (shape, orientation): points
-#: (φ, fixed seconds, µs per grain) — the fixed part is the packer's per-iteration overhead.
-PLACE_COST = {
-    ("sphere", None): ((0.0, 0.0, 15.0), (0.15, 0.05, 18.0), (0.30, 0.2, 30.0), (0.50, 0.6, 36.0),
-                       (0.58, 2.0, 100.0)),
-    ("cylinder", "isotropic"): ((0.0, 0.0, 900.0), (0.15, 0.05, 1000.0), (0.30, 0.8, 900.0), (0.50, 3.9, 560.0)),
-    ("cylinder", "inplane"): ((0.0, 0.0, 600.0), (0.15, 0.05, 700.0), (0.30, 0.8, 700.0), (0.50, 3.1, 1050.0),
-                              (0.55, 10.0, 2000.0)),
-    ("cylinder", "vertical"): ((0.0, 0.0, 120.0), (0.15, 0.02, 150.0), (0.30, 0.4, 250.0), (0.50, 0.9, 310.0)),
-}
 #: Relative growth of the placement cost per 0.01 of fraction beyond the last tabulated point.
 PLACE_GROWTH_BEYOND = 0.25
 #: A tilt spread makes aligned cylinders' contacts general (no parallel-axis shortcut).
 TILT_PLACE_FACTOR = 2.0
-#: Brownian steps of agglutination: fixed seconds and µs per grain.
-AGGLUTINATION_COST = {"sphere": (0.1, 1200.0), "cylinder": (1.0, 10000.0)}
 #: Voxelisation: seconds per (grain × window line × voxel layer), per voxel, and per surface line.
 VOXEL_S = 0.03
 VOXEL_S_PER_GRAIN = 1.7e-6
@@ -58,11 +48,10 @@ SURFACE_S_PER_LINE = 2.0e-6
 #: (`lattice.chunks` budget) while it deposits into one float64 grid per pigment, then the
 #: grid arrays of the mixing step (six float64 work grids and the float32 fractions).
 GEN_BYTES = 20 * 2**20
-GEN_BYTES_PER_GRAIN = {"sphere": 1000.0, "cylinder": 7000.0}
 VOXEL_CHUNK_BYTES = 150 * 2**20
 VOXEL_BYTES_PER_VOXEL = 48.0
 
-#: Axes averaged over for the window sizes of cylinders.
+#: Axes averaged over for the window sizes of grains with an axis.
 _AXES_SAMPLE = 256
 
 
@@ -99,11 +88,11 @@ def _interpolate(points, phi: float) -> tuple[float, float]:
 def placement_seconds(layer: LayerSpec, grains: int) -> float:
     spec = layer.particles
     phi = layer.ink.total_fraction
-    fixed, per_grain = _interpolate(PLACE_COST[(spec.shape, spec.orientation)], phi)
-    if spec.tilt_rad > 0 and phi > RSA_FRACTION[spec.shape]:
+    fixed, per_grain = _interpolate(spec.shape.place_cost[spec.orientation], phi)
+    if spec.tilt_rad > 0 and phi > spec.shape.rsa_fraction:
         fixed, per_grain = TILT_PLACE_FACTOR * fixed, TILT_PLACE_FACTOR * per_grain
     if spec.agglutination_kT > 0:
-        agg_fixed, agg_per_grain = AGGLUTINATION_COST[spec.shape]
+        agg_fixed, agg_per_grain = spec.shape.agglutination_cost
         fixed, per_grain = fixed + agg_fixed, per_grain + agg_per_grain
     return fixed + 1e-6 * per_grain * grains
 
@@ -111,11 +100,10 @@ def placement_seconds(layer: LayerSpec, grains: int) -> float:
 def _typical_bodies(layer: LayerSpec) -> Bodies:
     """A fixed sample of grains of the median size in the spec's orientation mode."""
     spec = layer.particles
-    if spec.shape == "sphere":
-        return Bodies("sphere", np.array([0.5 * spec.diameter_nm]), np.zeros(1), np.array([[0.0, 0.0, 1.0]]))
+    if not spec.shape.oriented:
+        return Bodies.of(spec.shape, np.array([spec.diameter_nm]), np.array([[0.0, 0.0, 1.0]]))
     axes = sample_orientations(spec.orientation, _AXES_SAMPLE, np.random.default_rng(0), spec.tilt_rad)
-    r, length = cylinder_radius_length(spec.diameter_nm)
-    return Bodies("cylinder", np.full(_AXES_SAMPLE, r), np.full(_AXES_SAMPLE, 0.5 * length), axes)
+    return Bodies.of(spec.shape, np.full(_AXES_SAMPLE, spec.diameter_nm), axes)
 
 
 def voxelisation_seconds(layer: LayerSpec, grid, grains: int) -> float:
@@ -124,9 +112,8 @@ def voxelisation_seconds(layer: LayerSpec, grid, grains: int) -> float:
     lx, ly = layer.cell_nm
     height = layer.thickness_nm * (1.0 + spec.rough_top * spec.diameter_nm / layer.thickness_nm)
     voxel_xy = max(lx / nx, ly / ny)
-    r_min = 0.5 * spec.diameter_nm * math.exp(-3.0 * spec.size_spread)
-    if spec.shape == "cylinder":
-        r_min = cylinder_radius_length(2.0 * r_min)[0]
+    r_min = float(spec.shape.smallest_half_width_nm(*spec.shape.dimensions(
+        np.array([spec.diameter_nm * math.exp(-3.0 * spec.size_spread)])))[0])
     s = lines_per_voxel(voxel_xy, r_min)
     spacing_x, spacing_y, dz = lx / (nx * s), ly / (ny * s), height / nz
     body = _typical_bodies(layer)
@@ -147,7 +134,7 @@ def peak_bytes(layer: LayerSpec, grid, grains: int) -> int:
     spec = layer.particles
     pigments = len(layer.ink.components)
     voxels = nx * ny * nz
-    gen = GEN_BYTES + GEN_BYTES_PER_GRAIN[spec.shape] * grains
+    gen = GEN_BYTES + spec.shape.gen_bytes_per_grain * grains
     deposit = VOXEL_CHUNK_BYTES + 8 * pigments * voxels
     mixing = voxels * (8 * pigments + VOXEL_BYTES_PER_VOXEL + 4 * (2 + pigments))
     return int(max(gen, deposit, mixing))

@@ -3,9 +3,9 @@
 Steps (every random stream is a child of SeedSequence(seed), one per step, `populations.STREAMS`,
 so e.g. changing the agglutination strength leaves sizes and orientations as they were):
 1. grains (`populations.draw_grains`): sizes per pigment population, scaled so the achieved
-   volume fraction equals the target; orientations (cylinders: isotropic, in-plane, vertical,
-   with the spec's tilt spread), rough-top allowances, random order;
-2. placement (`placement.place`): RSA (`rsa`) up to RSA_FRACTION, beyond it RSA of shrunk grains,
+   volume fraction equals the target; orientations (shapes with an axis: isotropic, in-plane,
+   vertical, with the spec's tilt spread), rough-top allowances, random order;
+2. placement (`placement.place`): RSA (`rsa`) up to the shape's rsa_fraction, beyond it RSA of shrunk grains,
    then growth and relaxation (`packing`);
 3. agglutination (`agglutination`) when its strength is > 0;
 4. a final overlap check of all pairs (`statistics.find_overlaps_of`).
@@ -20,18 +20,22 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .agglutination import AgglutinationStats, agglutinate
 from .limits import reachable_limit
-from .motion import ROTATION
+from .bodies import Bodies
+from .orientation import ROTATION
 from .packing import PackStats
 from .placement import Progress, place
 from .populations import draw_grains, seed_streams
-from .shapes import Bodies
 from .spec import LayerSpec, UnreachableConcentrationError
 from .statistics import find_overlaps_of
+
+if TYPE_CHECKING:
+    from .shapes import Shape
 
 GENERATE_STAGES = ("grains", "rsa", "packing", "agglutination", "check")
 
@@ -58,7 +62,7 @@ class Realization:
     centres_nm: np.ndarray           # (N, 3)
     axes: np.ndarray                 # (N, 3) unit, a_z >= 0 ((0, 0, 1) for spheres)
     radii_nm: np.ndarray             # (N,)
-    lengths_nm: np.ndarray           # (N,) cylinder length; 0 for spheres
+    lengths_nm: np.ndarray           # (N,) length along the axis (twice the half length; 0 for spheres)
     population: np.ndarray           # (N,) index into population_codes
     population_codes: tuple[str, ...]
     protrusion: np.ndarray           # (N,) allowed fraction of the height above z = 0
@@ -66,7 +70,7 @@ class Realization:
     stats: GeneratorStats = field(repr=False)
 
     @property
-    def shape(self) -> str:
+    def shape(self) -> Shape:
         return self.layer.particles.shape
 
     @property
@@ -121,7 +125,7 @@ def generate(layer: LayerSpec, seed: int, progress: Progress | None = None) -> R
     grains = draw_grains(layer, seed)
     report("grains", 1.0)
     placed = place(layer, grains, seed, progress)
-    bodies = Bodies(grains.bodies.shape, grains.bodies.radii_nm, grains.bodies.half_lengths_nm, placed.axes)
+    bodies = grains.bodies.turned(placed.axes)
     centres, axes = placed.centres_nm, placed.axes
     agg = None
     if spec.agglutination_kT > 0 and len(bodies) > 1:
@@ -130,7 +134,7 @@ def generate(layer: LayerSpec, seed: int, progress: Progress | None = None) -> R
                                          np.random.default_rng(streams["agglutination"]), ROTATION[spec.orientation],
                                          reference_axes=grains.bodies.axes,
                                          progress=None if progress is None else (lambda f: progress("agglutination", f)))
-        bodies = Bodies(bodies.shape, bodies.radii_nm, bodies.half_lengths_nm, axes)
+        bodies = bodies.turned(axes)
         if not agg.final_pack.converged:
             raise UnreachableConcentrationError(
                 f"after agglutination the packer could not separate all grains of {spec.label} at "

@@ -2,29 +2,22 @@
 
 Conventions shared by the packer (`packing`) and the Brownian dynamics (`agglutination`):
 positions are xyz (3, N) in nm; a particle's mass is its volume and its transverse moment of
-inertia that of a solid cylinder, I = V·(r²/4 + L²/12).  `rotation` says which turns are
-allowed: "free" (about any axis perpendicular to the particle's own), "z" (about the vertical
-only: in-plane cylinders keep their elevation), "none" (spheres; vertical cylinders).
+inertia its shape's (`Bodies.inertia`: a solid cylinder's V·(r²/4 + L²/12) for rods).  `rotation`
+says which turns are allowed (`orientation.ROTATION`): "free" (about any axis perpendicular to the
+particle's own), "z" (about the vertical only: in-plane grains keep their elevation), "none"
+(spheres; vertical grains).  Where a turn acts — support points, wall points, contact points —
+the shape says (`Shape.support_candidates`, `wall_point`, `contact_point`).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from .bodies import Bodies
 from .contact_solve import BodyRows, Contacts
-from .contacts import horizontal_separation, segment_closest_params, separation, sphere_gaps
+from .contacts import horizontal_separation, separation
 from .neighbours import min_image
-from .shapes import Bodies
 from .walls import Walls
-
-#: Which rotations the packer may use, per orientation mode.
-ROTATION = {"isotropic": "free", "inplane": "z", "vertical": "none", None: "none"}
-
-
-def inertia(bodies: Bodies) -> np.ndarray:
-    """Transverse moment of inertia per unit density (nm⁵) of each particle."""
-    r, h = bodies.radii_nm, bodies.half_lengths_nm
-    return bodies.volumes_nm3 * (r**2 / 4.0 + (2.0 * h) ** 2 / 12.0)
 
 
 def turn_axes(axes: np.ndarray, turn: np.ndarray, rotation: str) -> np.ndarray:
@@ -79,14 +72,10 @@ def wall_contacts(xyz, bodies: Bodies, walls: Walls, rotation="none"):
             down = np.where(xyz[2][hit] - hi[hit] > lo[hit] - xyz[2][hit], 1.0, -1.0)   # wall side
             ez = np.zeros_like(a)
             ez[:, 2] = down
-            side = ez - np.sum(ez * a, axis=1)[:, None] * a
-            norm = np.linalg.norm(side, axis=1)
-            side = np.where(norm[:, None] > 1e-9, side / np.where(norm > 1e-9, norm, 1.0)[:, None], 0.0)
-            h, r = bodies.half_lengths_nm[hit], bodies.radii_nm[hit]
-            p = np.sign(np.sum(ez * a, axis=1))[:, None] * h[:, None] * a + r[:, None] * side
+            p = bodies.shape.wall_point(a, bodies.half_lengths_nm[hit], bodies.radii_nm[hit], ez)
             n = -ez                                                    # push away from the wall
             vol = bodies.volumes_nm3[hit]
-            moment = inertia(bodies.take(hit))
+            moment = bodies.take(hit).inertia
             rxn = np.cross(p, n)
             if rotation == "z":
                 rxn[:, :2] = 0.0
@@ -94,19 +83,15 @@ def wall_contacts(xyz, bodies: Bodies, walls: Walls, rotation="none"):
             xyz[2][hit] += lam / vol * n[:, 2]
             axes = axes.copy()
             axes[hit] = turn_axes(a, lam[:, None] * rxn / moment[:, None], rotation)
-            bodies = Bodies(bodies.shape, bodies.radii_nm, bodies.half_lengths_nm, axes)
+            bodies = bodies.turned(axes)
     walls.clamp(xyz, bodies)
     return axes
 
 
 def pair_normals_gaps(bodies: Bodies, xyz: np.ndarray, i, j, period_nm, hint=None, margin_nm=0.0,
                       search_iterations=12, full_search=True):
-    """(normals (3, P), gaps (P,)) for pairs; xyz is (3, N).  Cylinder pairs certified apart
-    by margin_nm stop searching there (their gap is then only a lower bound ≥ margin_nm)."""
-    if bodies.shape == "sphere":
-        r = bodies.radii_nm
-        nx, ny, nz, gap = sphere_gaps(xyz, xyz, i, j, r[i] + r[j], period_nm)
-        return np.stack([nx, ny, nz]), gap
+    """(normals (3, P), gaps (P,)) for pairs; xyz is (3, N).  Pairs whose gap comes from a
+    search stop once certified apart by margin_nm (their gap is then only a lower bound ≥ margin_nm)."""
     sep = separation(bodies, xyz.T, i, j, period_nm, hint=hint, margin_nm=margin_nm,
                      search_iterations=search_iterations, full_search=full_search)
     return sep.normal.T, sep.gap_nm
@@ -118,57 +103,20 @@ def pair_separations(bodies: Bodies, xyz: np.ndarray, i, j, period_nm) -> np.nda
     return min_image(d, period_nm)
 
 
-#: Below this |a·n| a cylinder's far end joins its contact rows (a turn may make it the
-#: support point), and below this sin∠(a, n) its face's rim does (four points).
-SIDE_TOLERANCE = 0.1
-FACE_TOLERANCE = 0.1
-
-
-def _support_offsets(axes, half, radius, n):
-    """Candidate support points (P, 6, 3) of cylinders along unit n (P, 3), from the centre, their
-    mask (P, 6) and the support value w = h|a·n| + r√(1 − (a·n)²) (P,).  The support function
-    has kinks where the axis is perpendicular to n (a whole side line supports) and parallel to
-    it (a whole face supports); near them a turn moves the support point to the other end or
-    round the rim, so those points are candidates too (slot 0: the support point itself; 1: the
-    other end; 2–5: four rim points of the face)."""
-    c = np.einsum("pc,pc->p", axes, n)
-    sign = np.where(c < 0, -1.0, 1.0)
-    radial = n - c[:, None] * axes
-    norm = np.linalg.norm(radial, axis=1)
-    face = norm < FACE_TOLERANCE
-    side = np.abs(c) < SIDE_TOLERANCE
-    radial *= (radius / np.where(norm > 1e-12, norm, np.inf))[:, None]
-    end = (half * sign)[:, None] * axes
-    out = np.zeros((len(c), 6, 3))
-    mask = np.zeros((len(c), 6), dtype=bool)
-    out[:, 0] = end + radial
-    mask[:, 0] = True
-    out[:, 1] = radial - end
-    mask[:, 1] = side
-    if face.any():
-        pick = np.eye(3)[np.argmin(np.abs(axes[face]), axis=1)]
-        e1 = np.cross(axes[face], pick)
-        e1 /= np.linalg.norm(e1, axis=1)[:, None]
-        e2 = np.cross(axes[face], e1)
-        rim = radius[face, None, None] * np.stack([e1, -e1, e2, -e2], axis=1)
-        out[face, 2:] = end[face, None, :] + rim
-        mask[face, 2:] = True
-    return out, mask, half * np.abs(c) + radius * norm
-
-
 def contact_rows(bodies: Bodies, xyz, i, j, normal, gap, period_nm, rotation) -> Contacts:
     """Linearised constraint rows of contacts (i, j) with normals (P, 3) and gaps g(n) (P,).
 
     Without rotation one row per contact.  With rotation each row pairs a candidate support
-    point q_i of body i along +n with one q_j of body j along −n (`_support_offsets`); its gap is
+    point q_i of body i along +n with one q_j of body j along −n (`Shape.support_candidates`:
+    where the support function has kinks, a turn may make another point support); its gap is
     d·n + q_j·n − q_i·n (≥ g(n), = g(n) for the true support points) and its levers
     (q_i × n, q_j × n), projected on the allowed rotations."""
     if rotation == "none":
         return Contacts(i, j, normal, gap)
     axes, h, r = bodies.axes, bodies.half_lengths_nm, bodies.radii_nm
-    q_i, m_i, w_i = _support_offsets(axes[i], h[i], r[i], normal)
-    q_j, m_j, w_j = _support_offsets(axes[j], h[j], r[j], -normal)
-    mask = m_i[:, :, None] & m_j[:, None, :]                              # (P, 6, 6)
+    q_i, m_i, w_i = bodies.shape.support_candidates(axes[i], h[i], r[i], normal)
+    q_j, m_j, w_j = bodies.shape.support_candidates(axes[j], h[j], r[j], -normal)
+    mask = m_i[:, :, None] & m_j[:, None, :]                              # (P, K, K)
     p, a, b = np.nonzero(mask)
     n = normal[p]
     qi, qj = q_i[p, a], q_j[p, b]
@@ -189,12 +137,11 @@ def tilt_rows(axes: np.ndarray, reference: np.ndarray, max_angle: float, band_ra
 
 
 def midpoint_levers(bodies: Bodies, xyz, i, j, normal, period_nm, rotation):
-    """(ℓ_i, ℓ_j): r × n for the contact point midway between the closest points of the two
-    axes, projected on the allowed rotations; normal is (P, 3) (Brownian overlap removal)."""
+    """(ℓ_i, ℓ_j): r × n for the pair's contact point (`Shape.contact_point`), projected on the
+    allowed rotations; normal is (P, 3) (Brownian overlap removal)."""
     d = pair_separations(bodies, xyz, i, j, period_nm)
-    axes, h = bodies.axes, bodies.half_lengths_nm
-    s, t = segment_closest_params(d, axes[i], axes[j], h[i], h[j])
-    p = 0.5 * (s[:, None] * axes[i] + d + t[:, None] * axes[j])        # contact point, from c_i
+    axes, h, r = bodies.axes, bodies.half_lengths_nm, bodies.radii_nm
+    p = bodies.shape.contact_point(d, axes[i], axes[j], h[i], h[j], r[i], r[j], normal)   # from c_i
     return (project_levers(np.cross(p, normal), axes[i], rotation),
             project_levers(np.cross(p - d, normal), axes[j], rotation))
 
@@ -230,7 +177,7 @@ def push_apart(xyz, bodies: Bodies, i, j, normal, gap, margin_nm, period_nm, rot
     inv_m_i, inv_m_j = 1.0 / vol[ia], 1.0 / vol[ja]
     k_sum = inv_m_i + inv_m_j
     if rotation != "none":
-        moment = inertia(bodies)
+        moment = bodies.inertia
         rxn_i, rxn_j = midpoint_levers(bodies, xyz, ia, ja, n, period_nm, rotation)
         k_sum = k_sum + np.sum(rxn_i**2, axis=1) / moment[ia] + np.sum(rxn_j**2, axis=1) / moment[ja]
     lam = over[act] * relaxation / k_sum

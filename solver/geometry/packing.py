@@ -13,7 +13,7 @@ Each iteration:
 3. if s' = 1 and no pair has g < 0, every pair is certified apart: stop, without moving;
 4. the pairs with g < margin + band form a linearised contact problem — every pair's gap to reach
    `margin`, every centre to stay within its walls, rigid bodies of mass V and moment of inertia
-   V·(r²/4 + L²/12) — solved for the smallest moves by accelerated projected gradient on its dual
+   of its shape (`Bodies.inertia`) — solved for the smallest moves by accelerated projected gradient on its dual
    (`contact_solve`; translations are exact at fixed n, so the prediction is a lower bound).
    Rotation ("coupled" mode, in-plane rods: about z only, keeping the elevation exactly) enters the
    same problem, with extra rows at the kinks of the support function; isotropic rods ("push"
@@ -42,13 +42,13 @@ from typing import Callable
 import numpy as np
 
 from .contact_solve import BodyRows, solve_contacts, wall_rows
-from .motion import (ROTATION, contact_rows, horizontal_escape, inertia, limit_tilt, pair_normals_gaps, push_apart,
-                     tilt_rows, turn_axes, wall_contacts)
+from .bodies import Bodies
+from .motion import (contact_rows, horizontal_escape, limit_tilt, pair_normals_gaps, push_apart, tilt_rows, turn_axes,
+                     wall_contacts)
 from .neighbours import PairList, spatial_order
-from .shapes import Bodies
 from .walls import Walls
 
-__all__ = ["PackOptions", "PackStats", "ROTATION", "pack"]
+__all__ = ["PackOptions", "PackStats", "pack"]
 
 
 @dataclass(frozen=True)
@@ -64,7 +64,7 @@ class PackOptions:
     rounds: int = 2                 # active-set rounds (candidate rows of turning rods)
     tolerance: float = 0.5          # a solve stops when every row is within this × margin of its target
     max_iterations: int = 2000
-    search_iterations: int = 1      # cylinder separating-axis refinement per iteration
+    search_iterations: int = 1      # separating-axis refinement per iteration (cylinders)
     full_search_every: int = 8      # full axis search every k-th iteration (else warm local search)
     max_tilt: float = 0.35          # free rotation: largest angle (rad) from the drawn axis
     patience: int = 15              # iterations without progress before the horizontal escape
@@ -133,7 +133,7 @@ def pack(bodies: Bodies, walls: Walls, centres: np.ndarray, period_nm, scale0: f
     reach_max = 2.0 * float(bodies.bounding_radii_nm.max()) if len(bodies) else 0.0
     contact = 2.0 * mean_r
     inv_mass = 1.0 / bodies.volumes_nm3 if len(bodies) else np.zeros(0)
-    inv_inertia = 1.0 / inertia(bodies) if rotation != "none" else None
+    inv_inertia = 1.0 / bodies.inertia if rotation != "none" else None
     tilt = options.max_tilt if rotation == "free" else np.pi
     report = _Progress(progress, scale0)
     s = min(1.0, scale0)
@@ -151,14 +151,14 @@ def pack(bodies: Bodies, walls: Walls, centres: np.ndarray, period_nm, scale0: f
         if options.wall_torque:
             axes = wall_contacts(xyz, body_s, walls, rotation)
             if axes is not body_s.axes:
-                bodies = Bodies(bodies.shape, bodies.radii_nm, bodies.half_lengths_nm, axes)
+                bodies = bodies.turned(axes)
                 body_s = bodies.scaled(s_new)
         else:
             walls.clamp(xyz, body_s)
         i, j = pairs.pairs(xyz, reach_max * s_new, reach_max)
         normal, gap = pair_normals_gaps(body_s, xyz, i, j, period_nm, pairs.hint, margin * s_new,
                                         options.search_iterations, it % options.full_search_every == 0)
-        if body_s.shape == "cylinder":
+        if body_s.shape.uses_axis_hint:
             pairs.hint = normal.T
         worst = float(-gap.min()) if gap.size else -np.inf
         s = s_new
@@ -190,12 +190,12 @@ def pack(bodies: Bodies, walls: Walls, centres: np.ndarray, period_nm, scale0: f
                                margin * s, options.sweeps, options.tolerance * margin * s, options.rounds)
         xyz += _clip_rows(moves.shift_nm, options.max_shift * mean_r * s).T
         if turned is not None:
-            bodies = Bodies(bodies.shape, bodies.radii_nm, bodies.half_lengths_nm, turned)
+            bodies = bodies.turned(turned)
         if moves.turn is not None:
             axes = turn_axes(bodies.axes, _clip_rows(moves.turn, options.max_turn), rotation)
             if tilt < np.pi:
                 axes = limit_tilt(axes, drawn_axes, tilt)
-            bodies = Bodies(bodies.shape, bodies.radii_nm, bodies.half_lengths_nm, axes)
+            bodies = bodies.turned(axes)
         if s < 1.0 and worst < options.grow_tolerance * contact * s:
             grow, rate = True, min(options.max_growth_rate, 1.5 * rate)
         else:

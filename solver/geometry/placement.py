@@ -1,4 +1,5 @@
-"""Where the grains go: RSA alone up to RSA_FRACTION, beyond it RSA of shrunk grains then packing.
+"""Where the grains go: RSA alone up to the shape's rsa_fraction, beyond it RSA of shrunk grains
+then packing.
 
 `place(layer, grains, seed)` does not check the concentration against `limits.reachable_limit`
 (the generator does that first); it raises UnreachableConcentrationError when the packer gives
@@ -12,8 +13,8 @@ from typing import Callable
 
 import numpy as np
 
-from .limits import PACK_START_FRACTION, RSA_FRACTION, reachable_limit
-from .motion import ROTATION
+from .limits import reachable_limit
+from .orientation import ROTATION
 from .packing import PackOptions, PackStats, pack
 from .populations import Grains, seed_streams
 from .rsa import random_positions, rsa
@@ -39,13 +40,13 @@ def place(layer: LayerSpec, grains: Grains, seed: int, progress: Progress | None
     """Positions of the grains (RSA, then growth + relaxation when the concentration needs it).
 
     start_fraction: volume fraction of the shrunk grains RSA places before packing (default
-    `limits.PACK_START_FRACTION`); options: the packer's knobs."""
+    the shape's pack_start_fraction); options: the packer's knobs."""
     spec = layer.particles
     rng = np.random.default_rng(seed_streams(seed)["placement"])
     bodies, walls = grains.bodies, grains.walls
     target = layer.ink.total_fraction
-    packing = target > RSA_FRACTION[spec.shape]
-    start = PACK_START_FRACTION[spec.shape] if start_fraction is None else start_fraction
+    packing = target > spec.shape.rsa_fraction
+    start = spec.shape.pack_start_fraction if start_fraction is None else start_fraction
     scale0 = (min(target, start) / target) ** (1.0 / 3.0) if packing else 1.0
     report = None if progress is None else (lambda f: progress("rsa", f))
     res = rsa(bodies.scaled(scale0), walls, layer.cell_nm, rng, progress=report)

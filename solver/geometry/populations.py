@@ -15,8 +15,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .shapes import Bodies, sample_orientations
-from .spec import SPREAD_TRUNCATION_SIGMA, GeometryError, LayerSpec, bounding_diameter_nm, cylinder_radius_length
+from .bodies import Bodies
+from .orientation import sample_orientations
+from .spec import SPREAD_TRUNCATION_SIGMA, GeometryError, LayerSpec
 from .walls import Walls, draw_protrusion
 
 #: Child streams of SeedSequence(seed), by step.
@@ -90,14 +91,12 @@ def draw_grains(layer: LayerSpec, seed: int) -> Grains:
     pop = np.concatenate(pops) if pops else np.zeros(0, dtype=int)
     order = np.random.default_rng(streams["order"]).permutation(len(diam))
     diam, pop = diam[order], pop[order]
-    if len(diam) and bounding_diameter_nm(spec, float(diam.max())) >= 0.5 * min(layer.cell_nm):
+    if len(diam) and spec.span_nm(float(diam.max())) >= 0.5 * min(layer.cell_nm):
         raise GeometryError(f"particles of {spec.label} are too large for the cell at this concentration")
     orient_rng = np.random.default_rng(streams["orientations"])
     n = len(diam)
-    if spec.shape == "sphere":
-        bodies = Bodies("sphere", 0.5 * diam, np.zeros(n), np.tile([0.0, 0.0, 1.0], (n, 1)))
-    else:
-        r, length = cylinder_radius_length(diam)
-        bodies = Bodies("cylinder", r, 0.5 * length, sample_orientations(spec.orientation, n, orient_rng, spec.tilt_rad))
+    axes = (sample_orientations(spec.orientation, n, orient_rng, spec.tilt_rad) if spec.shape.oriented
+            else np.tile([0.0, 0.0, 1.0], (n, 1)))
+    bodies = Bodies.of(spec.shape, diam, axes)
     walls = Walls(layer.thickness_nm, draw_protrusion(spec.rough_top, n, orient_rng))
     return Grains(bodies, walls, pop, tuple(factors))

@@ -12,7 +12,7 @@ import numpy as np
 from solver.materials import PIGMENT_DISPLAY_RGB
 
 from .lattice import windows
-from .shapes import contains
+from .bodies import contains
 from .surface import binder_surface_nm
 
 BINDER_RGB = (0.62, 0.62, 0.62)

@@ -30,7 +30,7 @@ def summary(real, vox=None) -> str:
     if st.agglutination is not None:
         a = st.agglutination
         lines.append(f"agglutination: {a.strength_kT:g} kT, {a.steps} Brownian steps, {a.seconds:.2f} s")
-    if real.shape == "cylinder" and len(real.axes):
+    if real.shape.oriented and len(real.axes):
         lines.append(f"orientation: <|a_z|> = {np.mean(np.abs(real.axes[:, 2])):.3f} "
                      "(isotropic 0.5, in-plane 0, vertical 1)")
     lines.append(f"overlapping pairs: {len(find_overlaps(real))}")

@@ -16,7 +16,7 @@ import numpy as np
 
 from .contacts import separation
 from .neighbours import cross_pairs, neighbour_pairs
-from .shapes import Bodies
+from .bodies import Bodies
 from .walls import Walls
 
 

@@ -6,10 +6,11 @@ meniscus slope tan α (α = MENISCUS_ANGLE_RAD), so the surface height is the lo
 
     z_s(x, y) = min(0, min over protruding particles p, points q of p: q_z + tan α·|(x, y) − q_xy|)
 
-(z grows downward, so smaller z is higher).  For a sphere of radius R at depth z_c this is the
-spherical cap z_c − √(R² − ρ²) for ρ ≤ R sin α and the tangent cone z_c − R/cos α + ρ tan α
-beyond; for a cylinder the minimum runs over points of its surface (dense sample, a few nm).
-Everything below z_s (to z = H) is binder or particle, everything above is air.
+(z grows downward, so smaller z is higher).  Each shape gives its part (`Shape.meniscus_nm`): for
+a sphere of radius R at depth z_c the spherical cap z_c − √(R² − ρ²) for ρ ≤ R sin α and the
+tangent cone z_c − R/cos α + ρ tan α beyond; for other shapes the minimum over a dense sample of
+their surface (a few nm).  Everything below z_s (to z = H) is binder or particle, everything
+above is air.
 """
 
 from __future__ import annotations
@@ -17,27 +18,10 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
+from .bodies import Bodies
 from .neighbours import wrap_xy
-from .shapes import Bodies
 
 MENISCUS_ANGLE_RAD = np.deg2rad(45.0)
-
-
-def _cylinder_surface_points(radius, half_length, axis, n_ring=48, n_len=13):
-    """Points on a cylinder's surface relative to its centre (rims, mantle, end discs)."""
-    axis = np.asarray(axis, dtype=float)
-    e = np.eye(3)[np.argmin(np.abs(axis))]
-    u = np.cross(axis, e)
-    u /= np.linalg.norm(u)
-    v = np.cross(axis, u)
-    ang = 2 * np.pi * np.arange(n_ring) / n_ring
-    ring = np.cos(ang)[:, None] * u + np.sin(ang)[:, None] * v
-    pts = [t * half_length * axis + radius * ring for t in np.linspace(-1, 1, n_len)]
-    for t in (-1.0, 1.0):
-        for f in (0.25, 0.5, 0.75):
-            pts.append(t * half_length * axis + f * radius * ring)
-        pts.append((t * half_length * axis)[None, :])
-    return np.concatenate(pts, axis=0)
 
 
 def binder_surface_nm(bodies: Bodies, centres: np.ndarray, period_nm, x_nm, y_nm) -> np.ndarray:
@@ -65,22 +49,8 @@ def binder_surface_nm(bodies: Bodies, centres: np.ndarray, period_nm, x_nm, y_nm
         dy = pts[near, 1] - c[1]
         dx -= period_nm[0] * np.round(dx / period_nm[0])
         dy -= period_nm[1] * np.round(dy / period_nm[1])
-        zc = centres[p, 2]
-        if bodies.shape == "sphere":
-            r = bodies.radii_nm[p]
-            rho = np.hypot(dx, dy)
-            cap = zc - np.sqrt(np.clip(r * r - rho * rho, 0.0, None))
-            cone = zc - r / np.cos(MENISCUS_ANGLE_RAD) + rho * tan_a
-            f = np.where(rho <= r * np.sin(MENISCUS_ANGLE_RAD), cap, cone)
-        else:
-            q = _cylinder_surface_points(bodies.radii_nm[p], bodies.half_lengths_nm[p], bodies.axes[p])
-            q = q[q[:, 2] + zc < 0]                 # only points above the flat top matter
-            if q.size == 0:
-                continue
-            f = np.full(near.size, np.inf)
-            for part in np.array_split(np.arange(len(q)), max(1, len(q) // 64)):
-                qp = q[part]
-                dist = np.hypot(dx[:, None] - qp[None, :, 0], dy[:, None] - qp[None, :, 1])
-                f = np.minimum(f, np.min(zc + qp[None, :, 2] + tan_a * dist, axis=1))
-        np.minimum.at(flat, near, f)
+        f = bodies.shape.meniscus_nm(bodies.radii_nm[p], bodies.half_lengths_nm[p], bodies.axes[p], centres[p, 2],
+                                     dx, dy, MENISCUS_ANGLE_RAD)
+        if f is not None:
+            np.minimum.at(flat, near, f)
     return np.minimum(flat.reshape(x.shape), 0.0)

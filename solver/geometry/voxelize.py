@@ -5,9 +5,9 @@ z = z_top + (k + ½)·(z_bottom − z_top)/nz.
 
 Method ("exact in z, supersampled in x and y"): every voxel column carries s×s vertical sample
 lines (at x = (a + ½)·Lx/(nx·s), ...).  A line crosses a particle in one exact interval
-(`shapes.z_chords`), whose overlap with each voxel's z-interval is exact; a voxel's fraction is
+(`Shape.z_chords`), whose overlap with each voxel's z-interval is exact; a voxel's fraction is
 the mean over its lines.  The lateral spacing is at most a sixth of a voxel and a third of the
-smallest particle radius, so every particle is hit by many lines.  Each particle's deposits are
+smallest half-width of a particle (a sphere's or a rod's radius), so every particle is hit by many lines.  Each particle's deposits are
 then corrected so that they add up to its exact volume: segments that fill their voxel's
 z-interval are exact and stay; the small quadrature error of the lateral sampling, which sits at
 the particle's rim, is removed by scaling the partial segments.  Particles smaller than a voxel
@@ -35,7 +35,7 @@ import numpy as np
 from solver.materials import AIR_EPS, MaterialData, default_materials
 
 from .lattice import chunks, grid_windows
-from .shapes import z_chords
+from .bodies import z_chords
 from .surface import binder_surface_nm
 
 
@@ -150,7 +150,7 @@ def voxelize(realization, shape=(128, 128, 64), lines=None) -> VoxelFractions:
     z_top, z_bottom = real.z_range_nm
     dz = (z_bottom - z_top) / nz
     vox_xy = (period[0] / nx, period[1] / ny)
-    r_min = float(real.radii_nm.min()) if len(real.radii_nm) else max(vox_xy)
+    r_min = float(real.bodies.smallest_half_width_nm.min()) if len(real.radii_nm) else max(vox_xy)
     s = int(lines) if lines else lines_per_voxel(max(vox_xy), r_min)
     spacing = (vox_xy[0] / s, vox_xy[1] / s)
     codes = real.population_codes

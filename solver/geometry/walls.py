@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .shapes import Bodies
+from .bodies import Bodies
 
 
 @dataclass(frozen=True, eq=False)

@@ -225,6 +225,26 @@ class TableRequest:
         return opts
 
     @classmethod
+    def of_table(cls, table) -> "TableRequest":
+        """The request of a table: `from_meta` for a table the builder wrote; a film made
+        directly by the thin-film tier (tests, scripts) records its ink, thickness, polarisation
+        and pigment field in its meta and its grids in its arrays, which is all a film's numbers
+        depend on. RequestError for anything else."""
+        meta = table.meta
+        if isinstance(meta.get("settings"), dict) and "layers" in meta["settings"]:
+            return cls.from_meta(meta)
+        if meta.get("tier") != "thin-film" or meta.get("particles", "molecular") != "molecular":
+            return cls.from_meta(meta)                      # raises, naming the table
+        from .thinfilm_tier import LOCAL_FIELD_RULE
+
+        thickness = meta.get("thickness_nm", DEFAULT_THICKNESS_NM)
+        return table_request(meta["ink"], "molecular",
+                             thickness_nm=tuple(thickness) if isinstance(thickness, list) else thickness,
+                             wavelengths_nm=table.wavelengths, sigma_rad=table.sigma,
+                             polarisation=meta.get("polarisation", "te"),
+                             local_field=bool(meta.get("local_field", LOCAL_FIELD_RULE in meta.get("mixing_rule", ""))))
+
+    @classmethod
     def from_meta(cls, meta: dict, materials: MaterialData | None = None) -> "TableRequest":
         """The request a table file was built from, read back from its meta (every option:
         `to_options` round-trips through table_meta). RequestError when the meta lacks the

@@ -14,7 +14,7 @@ from solver.table.executor import default_workers
 from solver.table.options import OPTIONS
 from solver.table.request import (ACCURACY, DEFAULT_POLARISATION, DEFAULT_THICKNESS_NM, DPHI_COUNT, POLARISATIONS,
                                   TIERS, TableRequest, WaveSettings, table_request)
-from .parsing import PARTICLE_GRAMMAR, DefaultsFormatter, uniform_angles, wavelength_range, writable_output
+from .parsing import PARTICLE_GRAMMAR, PARTICLE_GRAMMAR_KEY, DefaultsFormatter, uniform_angles, wavelength_range, writable_output
 
 log = logging.getLogger("ink-tables")
 
@@ -44,8 +44,7 @@ def _cli_spec() -> dict:
     w = WaveSettings()
     return {
         "ink": (dict(help="ink spec in volume percent: R15, Y7.5+B7.5, G30, clear; 'Y15/B15' prints Y15 over B15"), None),
-        "particles": (dict(default="molecular", help=f"molecular | {PARTICLE_GRAMMAR} (D = (effective) diameter in "
-                           "nm; cylinders isotropic by default; σ of ln D; kT well depth; f protruding fraction); "
+        "particles": (dict(default="molecular", help=f"molecular | {PARTICLE_GRAMMAR} ({PARTICLE_GRAMMAR_KEY}); "
                            "'a/b' per layer of a stack"), None),
         "thickness_nm": (dict(metavar="NM[,NM…]", help="layer thickness in nm: one value for every layer, or one per "
                               f"layer of a stack, top first, e.g. 800,1000 (default {DEFAULT_THICKNESS_NM:g} each)"),

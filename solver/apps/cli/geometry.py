@@ -12,7 +12,7 @@ from __future__ import annotations
 from solver.inks import parse_ink
 from solver.table.request import WaveSettings
 from solver.table.request_checks import refuse_grains_without_pigment
-from .parsing import PARTICLE_GRAMMAR, DefaultsFormatter, writable_output
+from .parsing import PARTICLE_GRAMMAR, PARTICLE_GRAMMAR_KEY, DefaultsFormatter, writable_output
 
 
 def add_parser(sub) -> None:
@@ -20,9 +20,7 @@ def add_parser(sub) -> None:
                        formatter_class=DefaultsFormatter)
     p.add_argument("--ink", required=True, help="ink, e.g. R15, Y7.5+B7.5, G30 (volume percent)")
     p.add_argument("--particles", required=True,
-                   help=f"{PARTICLE_GRAMMAR} (D: effective diameter in nm; cylinders isotropic by default; "
-                        "tilt: orientation spread of aligned cylinders, degrees; σ of ln D; kT well depth; "
-                        "f protruding fraction)")
+                   help=f"{PARTICLE_GRAMMAR} ({PARTICLE_GRAMMAR_KEY})")
     p.add_argument("--thickness", type=float, default=1000.0, help="layer thickness, nm")
     p.add_argument("--cell", type=float, nargs="+", default=[2000.0], metavar="NM",
                    help="cell period in x (and y), nm")

@@ -14,13 +14,8 @@ from pathlib import Path
 
 import numpy as np
 
+from solver.geometry.spec import PARTICLE_GRAMMAR, PARTICLE_GRAMMAR_KEY  # noqa: F401  (the commands' help)
 from solver.table.request import MAX_ANGLES, RequestError
-
-
-#: the particle specs `--particles` takes (build, paper's columns, geometry); a cylinder's
-#: orientation is optional (isotropic by default)
-PARTICLE_GRAMMAR = ("sphere:D[:agglutinated[=kT]][:rough[=f]][:spread=σ] | "
-                    "cylinder:D[:isotropic|inplane|vertical][:tilt=DEG][:spread=σ]")
 
 
 def print_warning(message, category=None, filename=None, lineno=None, file=None, line=None) -> None:

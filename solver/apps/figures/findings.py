@@ -221,9 +221,9 @@ def _checks(grid: _Grid):
     # 7. balls and isotropic cylinders of one size differ less than a size step of the balls
     for col in grid.plain_columns():
         p = parse_particles(col)
-        if p.shape != "sphere":
+        if p.shape.name != "sphere":
             continue
-        cylinder = next((c for c in grid.plain_columns() if parse_particles(c).shape == "cylinder"
+        cylinder = next((c for c in grid.plain_columns() if parse_particles(c).shape.name == "cylinder"
                          and parse_particles(c).orientation == "isotropic"
                          and parse_particles(c).diameter_nm == p.diameter_nm), None)
         bigger = grid.next_larger(col)

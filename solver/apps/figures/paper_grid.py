@@ -39,8 +39,8 @@ class Column:
     """One grain column: the particle spec ('molecular' for the homogeneous layer), the paper's
     header (group over its sub-label; an empty sub-label: a one-level header).
 
-    across: cylinders 'across the layer' — vertical ones with the smallest orientation spread
-    that reaches the row's concentration (docs/design.md §3).
+    across: grains with vertical axes 'across the layer' — with the smallest orientation spread
+    that reaches the row's concentration (docs/design.md §3: the paper's cylinders).
     """
 
     particles: str
@@ -106,11 +106,10 @@ def derived_column(particles: str) -> Column:
         return Column("molecular", "infinitesimal particles")
     mods = [w for w, on in (("agglutinated", spec.agglutination_kT > 0), ("rough surface", spec.rough_top > 0),
                             (f"spread {spec.size_spread:g}", spec.size_spread > 0)) if on]
-    if spec.shape == "sphere":
-        return Column(particles, f"Balls {spec.diameter_nm:g} nm", " ".join(mods))
-    sub = dict((("isotropic", "isotropic"), ("inplane", "horiz aligned"),
-                ("vertical", "vertically aligned")))[spec.orientation]
-    return Column(particles, f"cylinders D_eff = {spec.diameter_nm:g} nm", " ".join([sub] + mods),
+    group = spec.shape.column_group(spec.diameter_nm)
+    if not spec.shape.oriented:
+        return Column(particles, group, " ".join(mods))
+    return Column(particles, group, " ".join([spec.shape.orientation_label(spec.orientation)] + mods),
                   across=spec.orientation == "vertical" and ":tilt" not in particles.lower())
 
 
