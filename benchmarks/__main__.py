@@ -10,7 +10,7 @@ import importlib
 import sys
 import time
 
-STUDIES = ("geometry", "wave", "render", "tables", "findings", "polarisation", "printing", "figures",
+STUDIES = ("fresh", "geometry", "wave", "render", "tables", "findings", "polarisation", "printing", "figures",
            "polarized", "separation", "vector", "convergence")
 
 
