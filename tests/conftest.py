@@ -41,6 +41,19 @@ def _private_table_cache(tmp_path_factory):
         os.environ["INKBSDF_CACHE"] = old
 
 
+#: the available memory every test sees (solver.host): no test depends on the machine it runs on
+HOST_MEMORY_BYTES = 64e9
+
+
+@pytest.fixture(autouse=True)
+def _fixed_host_memory(monkeypatch):
+    """solver.host.available_memory_bytes → HOST_MEMORY_BYTES (a test that needs another figure
+    patches it again)."""
+    from solver import host
+
+    monkeypatch.setattr(host, "available_memory_bytes", lambda: HOST_MEMORY_BYTES)
+
+
 @pytest.fixture(scope="session")
 def ink_tables(tmp_path_factory):
     """{ink: path} of the demo inks' tables (built once per test session, ~0.1 s each)."""
