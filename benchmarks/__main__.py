@@ -11,7 +11,7 @@ import sys
 import time
 
 STUDIES = ("geometry", "wave", "render", "tables", "findings", "polarisation", "printing", "figures",
-           "polarized", "separation", "vector", "convergence")
+           "polarized", "separation", "vector", "convergence", "interrupts")
 
 
 def main(argv: list[str]) -> int:

@@ -15,6 +15,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from benchmarks.bench_interrupts import process_group  # noqa: F401  (tests import it from here)
+
 THICKNESS_NM = 1000.0
 ROOT = Path(__file__).resolve().parents[1]
 N_BINDER = 1.558                          # the binder's refractive index (docs/design.md §2)
@@ -142,19 +144,6 @@ def run_main(main, argv, capsys):
         status = exc.code
     out, err = capsys.readouterr()
     return status, out, err
-
-
-def process_group(pgid: int) -> list[str]:
-    """Command lines of the live (non-zombie) processes in a process group (Linux /proc)."""
-    found = []
-    for stat in Path("/proc").glob("[0-9]*/stat"):
-        try:
-            fields = stat.read_text().rsplit(")", 1)[1].split()
-            if int(fields[2]) == pgid and fields[0] != "Z":
-                found.append((stat.parent / "cmdline").read_bytes().replace(b"\0", b" ").decode()[:120])
-        except (OSError, IndexError, ValueError):
-            continue
-    return found
 
 
 def interface_table(sigma_deg, wavelengths_nm=(360.0, 830.0)):
