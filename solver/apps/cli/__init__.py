@@ -16,7 +16,7 @@ import warnings
 
 from .parsing import OneLineParser, print_warning, run_guarded
 
-SUBCOMMANDS = ("build", "show", "geometry", "paper")
+SUBCOMMANDS = ("build", "show", "geometry", "paper", "design")
 VERBOSE_HELP = ("also log debug details (the request and its cache key, the options in effect); "
                 "before or after the subcommand")
 log = logging.getLogger("ink-tables")
