@@ -17,7 +17,8 @@ import numpy as np
 from ..colour.measurement import DEFAULT, Measurement
 from ..paper import PAPER_ALBEDO, check_paper_albedo
 from ..printing import PrintedInks, all_subsets, demichel_weights, stack_order
-from ..table.builder import BuildOptions, build_table, get_or_build
+from ..table.builder import BuildOptions, get_or_build
+from ..table.thinfilm_tier import request_film
 from ..table.request import LAYER_SEPARATOR, table_request
 from .recipe import Recipe
 
@@ -49,7 +50,7 @@ class FilmColour:
         request = table_request(inks, particles, thickness_nm=thickness if len(recipes) > 1 else thickness[0],
                                 local_field=self.local_field)
         if request.molecular:
-            table = build_table(request)
+            table = request_film(request)            # the thin-film tier's table of the request
             self.films += 1
         else:
             from ..table.cache import TableCache
