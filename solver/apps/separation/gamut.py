@@ -154,7 +154,9 @@ class GamutBoundary:
             cmax[j] = _hull_chroma(proj, L[sel], levels) if sel.sum() >= 3 else -1.0
         # the darkest neutral: the lowest L* every slice reaches (with some chroma to spare)
         reach = np.where(cmax >= 0.0, levels[None, :], np.inf).min(axis=1)
-        black_l = float(np.max(reach))
+        finite = np.isfinite(reach)
+        black_l = float(np.max(reach[finite])) if finite.any() else float(np.min(L))
+        black_l = min(black_l, float(white_l))
         cmax[:, levels < black_l] = np.minimum(cmax[:, levels < black_l], -1.0)
         cmax[:, (levels >= black_l) & (levels <= white_l)] = np.maximum(
             cmax[:, (levels >= black_l) & (levels <= white_l)], 0.0)
@@ -193,7 +195,7 @@ class GamutBoundary:
         return self.black_l + np.asarray(L, dtype=np.float64) * (self.white_l - self.black_l) / 100.0
 
     def lightness_unmap(self, L) -> np.ndarray:
-        return (np.asarray(L, dtype=np.float64) - self.black_l) * 100.0 / (self.white_l - self.black_l)
+        return (np.asarray(L, dtype=np.float64) - self.black_l) * 100.0 / max(self.white_l - self.black_l, 1e-9)
 
 
 def _ray_exit(inside, n: int) -> np.ndarray:
