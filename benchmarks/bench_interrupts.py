@@ -25,9 +25,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 CLI = [sys.executable, "-m", "solver.apps.cli"]
-#: a build long enough (~10 s on 2 cores, idle) that a moment drawn in [EARLIEST_S, latest_s] falls
+#: a build long enough (~6 s on 2 cores, idle) that a moment drawn in [EARLIEST_S, latest_s] falls
 #: inside it: loading, spawning the workers, geometry, solves, storing parts
-BUILD = ["build", "--ink", "Y7.5+B7.5", "--particles", "sphere:300", "--wavelengths", "400:700:10",
+BUILD = ["build", "--ink", "Y7.5+B7.5", "--particles", "sphere:300", "--wavelengths", "400:700:20",
          "--angles", "4", "--grid", "24", "24", "12", "--realizations", "1", "--azimuths", "2",
          "--tier", "full", "--workers", "2", "--no-progress"]
 #: the earliest moment drawn (s after the process starts): before it the interpreter itself is

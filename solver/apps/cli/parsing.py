@@ -87,11 +87,40 @@ def _failure(exc: BaseException, lead: str, memory_hint: str) -> int:
     raise exc
 
 
+class _StoreOnce(argparse._StoreAction):
+    """argparse's `store`, refusing an option given twice in one command line (`--ink R15 --ink
+    Y15` kept the last silently): a usage error naming both values."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        seen = parser.__dict__.setdefault("_given_once", {})
+        if self.dest in seen:
+            first_option, first = seen[self.dest]
+            raise argparse.ArgumentError(self, f"given twice ({first_option} {_shown(first)}, then "
+                                               f"{option_string} {_shown(values)}): give it once")
+        seen[self.dest] = (option_string, values)
+        super().__call__(parser, namespace, values, option_string)
+
+
+def _shown(values) -> str:
+    return " ".join(map(str, values)) if isinstance(values, list) else str(values)
+
+
 class OneLineParser(argparse.ArgumentParser):
     """argparse's usage errors as one line naming the problem (not the usage block); exit 2, or
-    `usage_error` raised when a subclass sets it (a caller that prints its own errors)."""
+    `usage_error` raised when a subclass sets it (a caller that prints its own errors).  A
+    single-value option (argparse's `store`) given twice is such an error, for every command
+    and subcommand (their parsers are of this class)."""
 
     usage_error: type[Exception] | None = None
+
+    def __init__(self, *args, **kw):
+        super().__init__(*args, **kw)
+        self.register("action", None, _StoreOnce)
+        self.register("action", "store", _StoreOnce)
+
+    def parse_known_args(self, args=None, namespace=None):
+        self._given_once = {}                     # options given in this command line
+        return super().parse_known_args(args, namespace)
 
     def error(self, message):
         text = f"{message} (see --help)"
