@@ -28,13 +28,17 @@ from .coverage import coverage_support
 from .errors import InkParameterError, plugin_factory
 from .inks import load_inks, numbered_inks, stack_lut
 from .mixing import PrintModel
-from .model import InkModel
+from .model import InkModel, safe_div
 from .polarized import depolarizing, in_stokes_frames, mirror_matrix
 from .variant import check_variant
 
 PLUGIN_NAME = "ink"
 DEFAULT_COVERAGE = 1.0
 SPECULAR, DIFFUSE = 0, 1            # component indices
+#: distance |ωo − mirror(ωi)| (≈ angle, radians) within which eval/eval_pdf, while derivatives
+#: are tracked, stand for the delta lobe (`_with_mirror_derivative`): 1000× the float32
+#: round-off of a direction taken to world space and back, 1e-6 of the cosine lobe's samples
+MIRROR_TOLERANCE = 1e-3
 
 _classes: dict[str, type] = {}      # variant → BSDF class (a class derives from one variant's BSDF)
 _models: dict[tuple, tuple] = {}    # (variant, id(lut)) → (lut, InkModel): one copy per table
@@ -186,8 +190,36 @@ def _define_class():
             """Density of the smooth lobe's samples (the delta lobe has none)."""
             return (1.0 - self._spec_prob(ctx, inc)) * mi.warp.square_to_cosine_hemisphere_pdf(wo)
 
+        def _mirror(self, ctx, si, inc, wo):
+            """The delta lobe's weight × its selection probability (Σ a_S R_spec,S; a Mueller
+            matrix in polarized variants) for the mirror direction `wo`."""
+            if mi.is_polarized:
+                b, c, s = self.model.mirror(inc)
+                return in_stokes_frames(mirror_matrix(inc.specular, b, c, s), si.wi, wo, ctx.mode)
+            return inc.specular
+
+        def _with_mirror_derivative(self, ctx, si, inc, wo, value, pdf):
+            """(value, pdf) of eval/eval_pdf, replaced at the mirror direction by the delta
+            lobe's (Σ a_S R_spec,S, P_spec) while derivatives are tracked (docs/plugin.md,
+            "Differentiable rendering"): `prb` and `direct_projective` differentiate a sampled
+            direction's contribution through eval (`prb`: d value / value; `direct_projective`:
+            d value / pdf), which sees only the smooth lobe; a direction within
+            MIRROR_TOLERANCE of the mirror is, with probability ≈ 1 − 1e-6, a delta sample.
+            Primal renders (no derivatives tracked) never take this branch."""
+            if not (_lobes(ctx)[0] and dr.grad_enabled(inc.specular, inc.albedo_diffuse)):
+                return value, pdf
+            mirror_dir = mi.reflect(si.wi)
+            at_mirror = inc.front & (dr.squared_norm(wo - mirror_dir) < MIRROR_TOLERANCE**2)
+            value = dr.select(at_mirror, self._mirror(ctx, si, inc, mirror_dir), value)
+            pdf = dr.select(at_mirror, dr.detach(self._spec_prob(ctx, inc)), pdf)
+            return value, pdf
+
         # ------------------------------------------------------------ interface
         def sample(self, ctx, si, sample1, sample2, active=True):
+            """Weights are value / detached pdf: the choice of lobe and the cosine-distributed
+            direction do not move with the parameters, so a weight's derivative is the
+            value's over the (fixed) probability of drawing it (docs/plugin.md,
+            "Differentiable rendering")."""
             has_spec, has_diff = _lobes(ctx)
             bs = dr.zeros(mi.BSDFSample3f)
             if not (has_spec or has_diff):
@@ -204,17 +236,11 @@ def _define_class():
             bs.sampled_component = dr.select(pick_spec, mi.UInt32(SPECULAR), mi.UInt32(DIFFUSE))
             bs.sampled_type = dr.select(pick_spec, mi.UInt32(+mi.BSDFFlags.DeltaReflection),
                                         mi.UInt32(+mi.BSDFFlags.DiffuseReflection))
-            inv_p_spec = 1.0 / dr.select(p_spec > 0, p_spec, 1.0)
             f_diff = self.model.diffuse(inc, si.wi, wo_diff)
-            w_diff = dr.select(pdf_diff > 0, f_diff / dr.select(pdf_diff > 0, pdf_diff, 1.0), 0.0)
+            w_diff = safe_div(f_diff, dr.detach(pdf_diff))
+            w_spec = self._mirror(ctx, si, inc, wo_spec) * safe_div(1.0, dr.detach(p_spec))
             if mi.is_polarized:
-                b, c, s = self.model.mirror(inc)
-                w_spec = in_stokes_frames(mirror_matrix(inc.specular * inv_p_spec, b * inv_p_spec,
-                                                        c * inv_p_spec, s * inv_p_spec),
-                                          si.wi, wo_spec, ctx.mode)
                 w_diff = depolarizing(w_diff)
-            else:
-                w_spec = inc.specular * inv_p_spec
             weight = dr.select(pick_spec, w_spec, w_diff)
             ok = active & inc.front & (bs.pdf > 0)
             bs.pdf = dr.select(ok, bs.pdf, 0.0)
@@ -223,8 +249,10 @@ def _define_class():
         def eval(self, ctx, si, wo, active=True):
             if not _lobes(ctx)[1]:
                 return mi.Spectrum(0.0)
-            value = self.model.diffuse(self._incident(si, active), si.wi, wo)
-            return dr.select(active, _smooth(value), 0.0)
+            inc = self._incident(si, active)
+            value = _smooth(self.model.diffuse(inc, si.wi, wo))
+            value, _ = self._with_mirror_derivative(ctx, si, inc, wo, value, 0.0)
+            return dr.select(active, value, 0.0)
 
         def pdf(self, ctx, si, wo, active=True):
             if not _lobes(ctx)[1]:
@@ -238,8 +266,9 @@ def _define_class():
                 return mi.Spectrum(0.0), mi.Float(0.0)
             inc = self._incident(si, active)
             ok = active & inc.front & (mi.Frame3f.cos_theta(wo) > 0)
-            value = self.model.diffuse(inc, si.wi, wo)
-            return dr.select(ok, _smooth(value), 0.0), dr.select(ok, self._pdf(ctx, inc, wo), 0.0)
+            value = _smooth(self.model.diffuse(inc, si.wi, wo))
+            value, pdf = self._with_mirror_derivative(ctx, si, inc, wo, value, self._pdf(ctx, inc, wo))
+            return dr.select(ok, value, 0.0), dr.select(ok, pdf, 0.0)
 
         def traverse(self, callback):
             callback.put("paper", self.paper, mi.ParamFlags.Differentiable)
