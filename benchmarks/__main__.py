@@ -10,7 +10,7 @@ import importlib
 import sys
 import time
 
-STUDIES = ("geometry", "wave", "render", "tables", "findings", "polarisation", "printing", "figures", "gradients",
+STUDIES = ("geometry", "wave", "render", "tables", "findings", "polarisation", "printing", "figures", "gradients", "variants",
            "polarized", "separation", "vector", "convergence")
 
 
