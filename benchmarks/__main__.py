@@ -9,9 +9,12 @@ from __future__ import annotations
 import importlib
 import sys
 import time
+from pathlib import Path
 
-STUDIES = ("geometry", "wave", "render", "tables", "findings", "polarisation", "printing", "figures", "gradients", "variants",
-           "polarized", "separation", "vector", "convergence")
+# Every benchmarks/bench_NAME.py is a study, found by its file name (no list to keep by hand);
+# `fresh` (the README's commands from a fresh clone) runs first, the rest alphabetically.
+_NAMES = sorted(p.stem[len("bench_"):] for p in Path(__file__).parent.glob("bench_*.py"))
+STUDIES = tuple(sorted(_NAMES, key=lambda n: (n != "fresh", n)))
 
 
 def main(argv: list[str]) -> int:

@@ -1,9 +1,12 @@
 """Optical constants of the binder and the pigments (docs/design.md §2).
 
-Binder: transparent, index 1.558, no dispersion.  Pigments R, Y, B: Re(η) = 1.4 and k(λ) from
-the package's derived spectra (`solver/data/pigments_k.csv`, see `derive_pigments.py` for the
-sources).  Green G is a *molecular* mix of Blue and Yellow: one material whose permittivity is
-ε_G = (ε_Y + ε_B)/2.
+Binder: transparent, index 1.558, no dispersion.  The paper's pigments R, Y, B: Re(η) = 1.4
+(paper §3.1) and measured k(λ) stand-ins; the process pigments C, M, K (docs/printing.md): their
+own measured n(λ) and k(λ) (carbon's n is about 2.3, a squaraine's dips below 1 across its band:
+a fixed 1.4 would misplace their colours).  All from the package's derived spectra
+(`solver/data/pigments_nk.csv`, see `derive_pigments.py` for the sources).  Green G is a
+*molecular* mix of Blue and Yellow: one material whose permittivity is ε_G = (ε_Y + ε_B)/2.
+The process set's yellow is the paper's Y.
 
 Everything that sets a number lives in one `MaterialData` value (constants and spectra) with a
 `fingerprint`: a table request carries the data it is computed from, and its cache key includes
@@ -41,13 +44,15 @@ PIGMENTS: dict[str, Pigment] = {
     "Y": Pigment("Y", "yellow", "F8BT film, k_iso=(2k_o+k_e)/3 (Kamptner et al. 2024)"),
     "B": Pigment("B", "blue", "ZZ50 / c-PCPDTBT film, k_iso=(2k_o+k_e)/3 (Kamptner et al. 2024)"),
     "G": Pigment("G", "green", "molecular mix: eps_G = (eps_Y + eps_B)/2", (("Y", 0.5), ("B", 0.5))),
+    "C": Pigment("C", "cyan", "SQIB squaraine film, n and k, mean of 3 axes (Funke et al. 2021)"),
+    "M": Pigment("M", "magenta", "Rhodamine 6G film, n and k (Seckin et al. 2023)"),
+    "K": Pigment("K", "black", "arc-evaporated amorphous carbon film, n and k (Arakawa et al. 1977)"),
 }
-#: column of each base pigment in the spectra file
-_K_COLUMNS = {"R": 1, "Y": 2, "B": 3}
 
 # Display colours for pictures of the geometry (sRGB 0–1).
 PIGMENT_DISPLAY_RGB = {"R": (0.85, 0.1, 0.45), "Y": (0.95, 0.85, 0.1),
-                       "B": (0.1, 0.45, 0.85), "G": (0.15, 0.65, 0.3)}
+                       "B": (0.1, 0.45, 0.85), "G": (0.15, 0.65, 0.3),
+                       "C": (0.0, 0.62, 0.88), "M": (0.9, 0.0, 0.5), "K": (0.1, 0.1, 0.1)}
 
 
 class UnknownPigmentError(ValueError):
@@ -104,7 +109,10 @@ def local_field_eps(eps_particle, eps_host, field: LocalField = SPHERE_FIELD):
 
 @dataclass(frozen=True, eq=False)
 class MaterialData:
-    """Binder and pigment constants and k(λ) spectra; `fingerprint` identifies the numbers.
+    """Binder and pigment constants and n(λ), k(λ) spectra; `fingerprint` identifies the numbers.
+
+    k: every base pigment's k; n: the pigments with a measured real index (the process
+    pigments); the others have Re(η) = pigment_real_index (the paper's 1.4).
 
     local_field: None (pigments enter with their bulk ε: the paper's volume mix) or how the
     pigment polarises in the binder (`LocalField`): pigments then enter with `local_field_eps`.
@@ -116,6 +124,7 @@ class MaterialData:
     k: dict = field(repr=False)                             # base code → k [n]
     source: str = "package data"
     local_field: LocalField | None = None
+    n: dict = field(default_factory=dict, repr=False)       # base code → measured n [n]
 
     def with_local_field(self, field: LocalField = SPHERE_FIELD) -> "MaterialData":
         return dataclasses.replace(self, local_field=field)
@@ -130,6 +139,8 @@ class MaterialData:
         h.update(np.ascontiguousarray(self.wavelengths_nm, dtype=np.float64).tobytes())
         for code in sorted(self.k):
             h.update(code.encode() + np.ascontiguousarray(self.k[code], dtype=np.float64).tobytes())
+        for code in sorted(self.n):
+            h.update(b"n" + code.encode() + np.ascontiguousarray(self.n[code], dtype=np.float64).tobytes())
         return h.hexdigest()[:16]
 
     def __eq__(self, other) -> bool:
@@ -155,10 +166,20 @@ class MaterialData:
         return np.full(np.shape(wavelength_nm), self.binder_index**2, dtype=complex)
 
     def pigment_k(self, code: str, wavelength_nm) -> np.ndarray:
-        """k(λ) of a base pigment (R, Y, B); clamped outside the data (the request refuses that)."""
+        """k(λ) of a base pigment (R, Y, B, C, M, K); clamped outside the data (the request
+        refuses that)."""
         if code not in self.k:
             raise ValueError(f"pigment {code!r} has no tabulated k (it is a mix); use pigment_eps")
         return np.interp(np.asarray(wavelength_nm, dtype=float), self.wavelengths_nm, self.k[code])
+
+    def pigment_n(self, code: str, wavelength_nm) -> np.ndarray:
+        """Re(η)(λ) of a base pigment: its measured n, or the paper's constant where it has none."""
+        wl = np.asarray(wavelength_nm, dtype=float)
+        if code in self.n:
+            return np.interp(wl, self.wavelengths_nm, self.n[code])
+        if code not in self.k:
+            raise ValueError(f"pigment {code!r} has no tabulated index (it is a mix); use pigment_eps")
+        return np.full(wl.shape, self.pigment_real_index)
 
     def pigment_eps(self, code: str, wavelength_nm) -> np.ndarray:
         """Relative permittivity ε = η² of a pigment (mixes ε-weighted) at λ in nm; with
@@ -176,23 +197,47 @@ class MaterialData:
         pig = get_pigment(code)
         if pig.parts:
             return sum(w * self._bulk_eps(c, wavelength_nm) for c, w in pig.parts)
-        return (self.pigment_real_index + 1j * self.pigment_k(code, wavelength_nm)) ** 2
+        return (self.pigment_n(code, wavelength_nm) + 1j * self.pigment_k(code, wavelength_nm)) ** 2
+
+
+#: the spectra file's columns: "k_<name>" (every base pigment), "n_<name>" (measured n)
+_BASE_CODES = {p.name: p.code for p in PIGMENTS.values() if not p.parts}
+
+
+def _columns(header: str, source: str) -> dict[tuple[str, str], int]:
+    """{(quantity, code): column} from the file's header line "wavelength_nm,k_red,…,n_cyan,…"."""
+    names = [h.strip() for h in header.split(",")]
+    out = {}
+    for i, name in enumerate(names[1:], start=1):
+        quantity, _, pigment = name.partition("_")
+        if quantity not in ("n", "k") or pigment not in _BASE_CODES:
+            raise ValueError(f"{source}: unknown column {name!r}; expected k_<pigment> or n_<pigment> "
+                             f"with pigment one of {', '.join(_BASE_CODES)}")
+        out[(quantity, _BASE_CODES[pigment])] = i
+    missing = [n for n, c in _BASE_CODES.items() if ("k", c) not in out]
+    if names[0] != "wavelength_nm" or missing:
+        raise ValueError(f"{source}: need a wavelength_nm column and k_<pigment> for "
+                         f"{', '.join(missing) or 'every pigment'}")
+    return out
 
 
 def load_material_data(path: str | Path | None = None) -> MaterialData:
-    """Read a spectra file (default: the package's `solver/data/pigments_k.csv`)."""
+    """Read a spectra file (default: the package's `solver/data/pigments_nk.csv`)."""
     if path is None:
-        text = resources.files("solver.data").joinpath("pigments_k.csv").read_text()
+        text = resources.files("solver.data").joinpath("pigments_nk.csv").read_text()
         source = "package data"
     else:
         text = Path(path).read_text()
         source = str(path)
-    data = np.loadtxt(text.splitlines(), delimiter=",", comments="#", skiprows=3)
+    lines = [ln for ln in text.splitlines() if ln.strip() and not ln.startswith("#")]
+    cols = _columns(lines[0], source)
+    data = np.loadtxt(lines[1:], delimiter=",", ndmin=2)
     wl = data[:, 0]
     if wl.size < 2 or np.any(np.diff(wl) <= 0) or not np.all(np.isfinite(data)):
         raise ValueError(f"{source}: pigment spectra must be finite with increasing wavelengths")
     return MaterialData(BINDER_INDEX, PIGMENT_REAL_INDEX, wl,
-                        {c: data[:, i] for c, i in _K_COLUMNS.items()}, source)
+                        {c: data[:, i] for (q, c), i in cols.items() if q == "k"}, source,
+                        n={c: data[:, i] for (q, c), i in cols.items() if q == "n"})
 
 
 @lru_cache(maxsize=1)

@@ -15,6 +15,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from benchmarks.bench_interrupts import process_group  # noqa: F401  (tests import it from here)
+
 THICKNESS_NM = 1000.0
 ROOT = Path(__file__).resolve().parents[1]
 N_BINDER = 1.558                          # the binder's refractive index (docs/design.md §2)
@@ -39,6 +41,19 @@ def _private_table_cache(tmp_path_factory):
         os.environ.pop("INKBSDF_CACHE", None)
     else:
         os.environ["INKBSDF_CACHE"] = old
+
+
+#: the available memory every test sees (solver.host): no test depends on the machine it runs on
+HOST_MEMORY_BYTES = 64e9
+
+
+@pytest.fixture(autouse=True)
+def _fixed_host_memory(monkeypatch):
+    """solver.host.available_memory_bytes → HOST_MEMORY_BYTES (a test that needs another figure
+    patches it again)."""
+    from solver import host
+
+    monkeypatch.setattr(host, "available_memory_bytes", lambda: HOST_MEMORY_BYTES)
 
 
 @pytest.fixture(scope="session")
@@ -129,19 +144,6 @@ def run_main(main, argv, capsys):
         status = exc.code
     out, err = capsys.readouterr()
     return status, out, err
-
-
-def process_group(pgid: int) -> list[str]:
-    """Command lines of the live (non-zombie) processes in a process group (Linux /proc)."""
-    found = []
-    for stat in Path("/proc").glob("[0-9]*/stat"):
-        try:
-            fields = stat.read_text().rsplit(")", 1)[1].split()
-            if int(fields[2]) == pgid and fields[0] != "Z":
-                found.append((stat.parent / "cmdline").read_bytes().replace(b"\0", b" ").decode()[:120])
-        except (OSError, IndexError, ValueError):
-            continue
-    return found
 
 
 def interface_table(sigma_deg, wavelengths_nm=(360.0, 830.0)):

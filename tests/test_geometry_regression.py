@@ -3,6 +3,13 @@ became objects (docs/geometry.md, "Shapes"): a few small cells of each shape, or
 modifier, generated and voxelised, compared exactly with the arrays the code wrote before that
 refactor (tests/data/shape_cells.npz, made by `python -m tests.test_geometry_regression` on the
 old code, commit 91f76af).  Cached tables of spheres and cylinders stay right only if this holds.
+
+"The same" up to the last bits of floating point: NumPy picks its vectorised exp/sin/cos for the
+CPU it runs on (AVX-512 or AVX2 paths differ in the last ulp), so positions are compared to
+1e-9 relative, not bit for bit. Agglutination is a Metropolis walk: an ulp decides an accept
+now and then, after which the walk goes elsewhere (1e-5 nm on one host became 34 nm on another),
+so agglutinated cells are compared by what the walk cannot change: the grains drawn (sizes,
+populations, count) and the pigment volume the voxels hold.
 """
 
 from __future__ import annotations
@@ -39,6 +46,8 @@ LAYERS = tuple((ink, particles, 1000.0, 2000.0) for ink in ("R15", "Y25+B25")
                                  "cylinder:100:isotropic", "cylinder:200:inplane:tilt=10",
                                  "cylinder:300:vertical", "cylinder:300:vertical:tilt=40:rough",
                                  "cylinder:100:isotropic:agglutinated=2:spread=0.1"))
+#: what a Metropolis walk moves (compared only where no walk ran)
+WALKED = ("centres_nm", "axes", "protrusion", "z_range_nm")
 ARRAYS = ("centres_nm", "axes", "radii_nm", "lengths_nm", "population", "protrusion")
 
 
@@ -74,8 +83,15 @@ def _values(case) -> tuple:
 def test_same_grains_and_voxels_as_before_the_refactor(case):
     stored = np.load(FIXTURE)
     index = stored["cases"].tolist().index(repr(case))
+    walk = "agglutinated" in case[1]
     for name, value in cell_arrays(*case).items():
-        np.testing.assert_array_equal(value, stored[_key(index, name)], err_msg=f"{case}: {name}")
+        old = stored[_key(index, name)]
+        if walk and name in WALKED:
+            continue
+        if walk and name == "fractions":
+            assert value.sum() == pytest.approx(old.sum(), rel=0.02), f"{case}: pigment volume in voxels"
+            continue
+        np.testing.assert_allclose(value, old, rtol=1e-9, atol=1e-9, err_msg=f"{case}: {name}")
 
 
 def test_same_limits_costs_and_local_fields_as_before_the_refactor():

@@ -91,7 +91,7 @@ def test_edited_pigment_data_gives_a_new_key(tmp_path):
     text = (tmp_path / "orig.csv")
     from importlib import resources
 
-    text.write_text(resources.files("solver.data").joinpath("pigments_k.csv").read_text())
+    text.write_text(resources.files("solver.data").joinpath("pigments_nk.csv").read_text())
     same = load_material_data(text)
     assert same.fingerprint == default_materials().fingerprint
     lines = text.read_text().splitlines()

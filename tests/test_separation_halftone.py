@@ -113,9 +113,12 @@ def test_binary_dots_render_as_murray_davies():
     """The BSDF is local: a texel of binary dots is bare paper or a full overprint, so the mean
     over texels of the printed reflectance is the Murray–Davies mix of the dot areas. That is
     within ΔE 0.6 of Murray–Davies at the mean coverages and far from Clapper–Yule."""
+    from solver.colour.measurement import parse_measurement
+
     printed = printed_inks(("R30", "Y30", "B30"))
-    md = PrintColourModel.build(printed, coverage_model="murray-davies")
-    cy = PrintColourModel.build(printed, coverage_model="clapper-yule")
+    render = parse_measurement("d:0", "D65")          # a render's light: uniform, seen from above
+    md = PrintColourModel.build(printed, coverage_model="murray-davies", measurement=render)
+    cy = PrintColourModel.build(printed, coverage_model="clapper-yule", measurement=render)
     cov = np.array([0.35, 0.5, 0.25])
     img = np.ones((8, 8))
     for kind in ("AM:25", "FM"):

@@ -20,6 +20,7 @@ import sys
 from pathlib import Path
 
 from solver.apps.cli.parsing import DefaultsFormatter, OneLineParser, run_guarded, writable_output
+from solver.interrupts import raising
 from solver.paper import PAPER_ALBEDO, check_paper_albedo
 
 MARGIN_CM = 1.5                     # white paper around the print on its sheet
@@ -134,7 +135,8 @@ def _sheet_transform(stage) -> str:
 
 def main(argv=None) -> int:
     """The command; returns the exit status (2: bad input, told in one line on stderr)."""
-    return run_guarded(lambda: _main(argv), interrupted="\ninterrupted (Ctrl-C): stopped")
+    with raising():                        # SIGTERM: like Ctrl-C, "terminated", exit 143
+        return run_guarded(lambda: _main(argv), interrupted="\n{interrupted}: stopped")
 
 
 def _main(argv) -> int:

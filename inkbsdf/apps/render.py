@@ -22,7 +22,8 @@ import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
-from solver.apps.cli.parsing import DefaultsFormatter, OneLineParser, run_guarded, writable_output
+from solver.apps.cli.parsing import DefaultsFormatter, OneLineParser, interrupted_word, run_guarded, writable_output
+from solver.interrupts import exit_status, raising
 
 from inkbsdf.errors import loader_problem
 
@@ -229,15 +230,16 @@ def run(argv=None) -> int:
     # (as it should) and would warn that it had to: that warning is expected, not shown
     sys.warnoptions.append("ignore:resource_tracker:UserWarning")
     worker = threading.Thread(target=work, name="inkbsdf-render", daemon=True)
-    worker.start()
     try:
-        while worker.is_alive():
-            worker.join(0.05)
-    except KeyboardInterrupt:
+        with raising():             # SIGTERM: the same, "terminated", exit 143
+            worker.start()
+            while worker.is_alive():
+                worker.join(0.05)
+    except KeyboardInterrupt as exc:
         _stop_children()
-        print("\ninterrupted (Ctrl-C): stopped", file=sys.stderr, flush=True)
+        print(f"\n{interrupted_word(exc)}: stopped", file=sys.stderr, flush=True)
         sys.stdout.flush()
-        os._exit(130)                      # the render kernel cannot be cancelled: leave now
+        os._exit(exit_status(exc))         # the render kernel cannot be cancelled: leave now
     if "error" in outcome:
         raise outcome["error"]
     return outcome["status"]

@@ -11,12 +11,13 @@ The `ink` BSDF evaluates the same formulas per lane; its tests compare against t
 
 from .demichel import all_subsets, demichel_weights, stack_order
 from .inkset import PrintedInks
+from .measured import MeasuredPredictor
 from .model import (COVERAGE_MODELS, DEFAULT_COVERAGE_MODEL, brdf_smooth, check_coverage_model,
                     directional_albedo, specular_reflectance)
 from .overlap import TexelMask, possible_primaries
 from .predict import ReflectancePredictor, reflectance
 
-__all__ = ["COVERAGE_MODELS", "DEFAULT_COVERAGE_MODEL", "PrintedInks", "ReflectancePredictor",
+__all__ = ["COVERAGE_MODELS", "DEFAULT_COVERAGE_MODEL", "MeasuredPredictor", "PrintedInks", "ReflectancePredictor",
            "TexelMask", "all_subsets", "brdf_smooth", "check_coverage_model", "demichel_weights",
            "directional_albedo", "possible_primaries", "reflectance", "specular_reflectance",
            "stack_order"]

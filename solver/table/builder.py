@@ -14,12 +14,12 @@ import contextlib
 import dataclasses
 import logging
 import math
-import os
 import time
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from .. import host
 from . import preflight, tier_choice
 from .cache import TableCache
 from .executor import check_scheduler, default_workers, local_pool, run_units, usable_workers
@@ -49,7 +49,7 @@ class BuildOptions:
     @property
     def threads(self) -> int | None:
         """FFT threads per unit: the cores shared among the local workers (None: the default)."""
-        return max(1, (os.cpu_count() or 1) // self.workers) if self.workers > 1 else None
+        return max(1, host.cpu_count() // self.workers) if self.workers > 1 else None
 
 
 @dataclass

@@ -5,31 +5,27 @@ order, so the table is identical whatever the number of workers or where they ru
 `on_result(index, result)` is called in the parent as each unit finishes (to persist it);
 a tqdm bar shows progress and ETA.
 
-No worker outlives its build: local workers ask the kernel to kill them when their parent dies
-(Linux PR_SET_PDEATHSIG, so even `kill -9` of the build leaves nothing behind), ignore Ctrl-C
-(the parent stops them), and are killed when the parent is interrupted or fails.
+No worker outlives its build: local workers (solver.table.workers) die with their parent, leave
+Ctrl-C and SIGTERM to it, and are killed when it is interrupted or fails.
 """
 
 from __future__ import annotations
 
 import contextlib
-import ctypes
 import logging
-import multiprocessing
-import os
 import re
-import signal
 import socket
 import warnings
-from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from typing import Any, Callable, Sequence
 from urllib.parse import urlparse
 
 from tqdm import tqdm
 
+from ..host import cpu_count
+from .workers import WorkerPool
+
 log = logging.getLogger("inkbsdf.tables")
 
-_PR_SET_PDEATHSIG = 1
 
 
 class SchedulerError(ValueError):
@@ -38,19 +34,7 @@ class SchedulerError(ValueError):
 
 def default_workers() -> int:
     """Local worker processes by default: one per core."""
-    return max(1, os.cpu_count() or 1)
-
-
-def _init_worker(parent_pid: int) -> None:
-    """In each pool worker: die with the parent, leave Ctrl-C to the parent."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    try:
-        libc = ctypes.CDLL(None, use_errno=True)
-        libc.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
-    except (OSError, AttributeError):      # not Linux: the parent's cleanup below still applies
-        pass
-    if os.getppid() != parent_pid:         # the parent died before prctl took effect
-        os._exit(1)
+    return cpu_count()
 
 
 def check_scheduler(address: str, timeout_s: float = 5.0) -> None:
@@ -68,17 +52,6 @@ def check_scheduler(address: str, timeout_s: float = 5.0) -> None:
     except OSError as exc:
         raise SchedulerError(f"--scheduler {address}: cannot reach the Dask scheduler ({exc.strerror or exc}); "
                              "start it (`dask scheduler`) or leave out --scheduler to use local workers") from None
-
-
-def _stop(pool: ProcessPoolExecutor) -> None:
-    """Cancel what has not started and kill the workers now (an interrupt or a failure)."""
-    processes = list((getattr(pool, "_processes", None) or {}).values())
-    pool.shutdown(wait=False, cancel_futures=True)
-    for proc in processes:
-        if proc.is_alive():
-            proc.kill()
-    for proc in processes:
-        proc.join(timeout=5)
 
 
 def main_is_guarded() -> bool:
@@ -110,32 +83,17 @@ def usable_workers(workers: int) -> int:
 
 @contextlib.contextmanager
 def local_pool(workers: int):
-    """A process pool for several `run_units` calls (a table's stages, a figure's tables):
-    workers are spawned once — spawning and importing the solver costs about a second each.
-    Spawn, not fork: the caller may be a multithreaded process (a Mitsuba scene load); each unit
+    """A WorkerPool for several `run_units` calls (a table's stages, a figure's tables): workers
+    are spawned once — spawning and importing the solver costs about a second each.  Spawn,
+    not fork: the caller may be a multithreaded process (a Mitsuba scene load); each unit
     carries its own FFT thread count.  On an interrupt or a failure the workers are killed."""
-    pool = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"),
-                               initializer=_init_worker, initargs=(os.getpid(),))
+    pool = WorkerPool(workers)
     try:
         yield pool
     except BaseException:
-        _stop(pool)
+        pool.kill()
         raise
-    pool.shutdown(wait=True)
-
-
-def _run_pool(fn, units, pool, done) -> None:
-    futures = {pool.submit(fn, unit): i for i, unit in enumerate(units)}
-    pending = set(futures)
-    try:
-        while pending:
-            finished, pending = wait(pending, return_when=FIRST_COMPLETED)
-            for fut in finished:
-                done(futures[fut], fut.result())
-    except BaseException:
-        _stop(pool)
-        raise
-
+    pool.close()
 
 def _run_dask(fn, units, scheduler, done) -> None:
     from distributed import Client, as_completed as dask_completed
@@ -154,7 +112,7 @@ def _run_dask(fn, units, scheduler, done) -> None:
 
 def run_units(fn: Callable, units: Sequence[Any], *, workers: int = 1, scheduler: str | None = None,
               desc: str = "units", on_result: Callable[[int, Any], None] | None = None,
-              progress: bool = True, pool: ProcessPoolExecutor | None = None) -> list:
+              progress: bool = True, pool: WorkerPool | None = None) -> list:
     """Evaluate fn(unit) for every unit; return the results in unit order (on `pool` when
     given, else on a pool of `workers` processes made for this call, or in this process)."""
     results: list = [None] * len(units)
@@ -172,13 +130,13 @@ def run_units(fn: Callable, units: Sequence[Any], *, workers: int = 1, scheduler
         if scheduler:
             _run_dask(fn, units, scheduler, done)
         elif pool is not None:
-            _run_pool(fn, units, pool, done)
+            pool.run(fn, units, done)
         elif usable_workers(workers) <= 1 or len(units) == 1:
             for i, unit in enumerate(units):
                 done(i, fn(unit))
         else:
             with local_pool(min(workers, len(units))) as own:
-                _run_pool(fn, units, own, done)
+                own.run(fn, units, done)
     finally:
         bar.close()
     return results

@@ -13,11 +13,11 @@ from __future__ import annotations
 
 import logging
 import math
-import os
 import shutil
 from dataclasses import dataclass
 from pathlib import Path
 
+from .. import host
 from .request import TableRequest
 
 log = logging.getLogger("inkbsdf.tables")
@@ -81,20 +81,6 @@ def _duration(s: float) -> str:
     return f"{s / 60:.1f} min" if s >= 60 else f"{s:.0f} s"
 
 
-def available_memory_bytes() -> float:
-    """MemAvailable of this machine (Linux), else the physical memory."""
-    try:
-        for line in Path("/proc/meminfo").read_text().splitlines():
-            if line.startswith("MemAvailable:"):
-                return float(line.split()[1]) * 1024.0
-    except (OSError, ValueError, IndexError):
-        pass
-    try:
-        return float(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
-    except (ValueError, OSError, AttributeError):
-        return math.inf
-
-
 def estimate(request: TableRequest, workers: int = 1) -> Estimate:
     """What building the request needs (pure arithmetic: no geometry, no solve)."""
     g = request.grids
@@ -145,7 +131,7 @@ def _warn_unresolved(request: TableRequest) -> None:
 def limits_exceeded(est: Estimate, request: TableRequest, workers: int, cache_root: Path) -> list[str]:
     """What of this machine the estimated build would exceed (memory, the cache's disk); empty
     when it fits."""
-    memory = available_memory_bytes() * MEMORY_SHARE
+    memory = host.available_memory_bytes() * MEMORY_SHARE
     need = est.worker_bytes * max(1, workers if not request.molecular else 1)
     problems = []
     if need > memory:

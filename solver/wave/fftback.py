@@ -21,12 +21,13 @@ from __future__ import annotations
 
 import functools
 import importlib.util
-import os
 import threading
 from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.fft as sfft
+
+from .. import host
 
 #: default FFT library of prepare_background / prepare / solve: 'auto' = FFTW where pyFFTW is
 #: installed (the optional dependency `inkbsdf[fftw]`; its speed-up: docs/wave_solver.md, "FFT library"), else scipy.fft
@@ -42,7 +43,7 @@ MEASURE_MIN_ELEMENTS = 1 << 17
 
 def default_workers() -> int:
     """Threads for scipy.fft: the machine's cores, at most 8."""
-    return max(1, min(os.cpu_count() or 1, 8))
+    return max(1, min(host.cpu_count(), 8))
 
 
 def aligned_empty(shape, dtype) -> np.ndarray:

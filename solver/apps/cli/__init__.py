@@ -9,12 +9,13 @@ from __future__ import annotations
 import argparse
 import importlib
 import logging
-import signal
 import sys
-import threading
 import warnings
 
-from .parsing import OneLineParser, print_warning, run_guarded
+from ...interrupts import Terminated, deferred, exit_status, raising
+
+# .parsing (NumPy, the request's grammar) is imported inside the functions: an interrupt while
+# it loads is then one line too (main)
 
 SUBCOMMANDS = ("build", "show", "geometry", "paper")
 VERBOSE_HELP = ("also log debug details (the request and its cache key, the options in effect); "
@@ -39,6 +40,8 @@ def add_verbose(parser: argparse.ArgumentParser, default=False) -> None:
 
 
 def make_parser() -> argparse.ArgumentParser:
+    from .parsing import OneLineParser
+
     parser = OneLineParser(
         prog="ink-tables", description="Tables of printed-ink reflectance for the inkbsdf Mitsuba plugin.")
     add_verbose(parser)
@@ -68,28 +71,31 @@ def configure_logging(verbose: bool) -> None:
     log.setLevel(logging.DEBUG if verbose else logging.NOTSET)
 
 
-def _terminated(signum, _frame):
-    """SIGTERM: unwind like an interrupt, so temp files are removed and workers stopped."""
-    raise SystemExit(128 + signum)
-
-
 def main(argv: list[str] | None = None) -> int:
     """The command; returns the exit status (2: bad input, told in one line on stderr; the
-    commands' one wrapper, parsing.run_guarded). Warnings are said as one `warning: …` line each."""
-    with warnings.catch_warnings():
-        warnings.showwarning = print_warning
-        args = make_parser().parse_args(argv)
-    prefix = f"ink-tables {args.command}"
-    return run_guarded(lambda: _run(args), prefix,
-                       f"{prefix}: interrupted (finished work units are kept; rerun to resume)")
+    commands' one wrapper, parsing.run_guarded). Warnings are said as one `warning: …` line each.
+    SIGINT and SIGTERM, from this function's first line on, end it with one line (exit 130 /
+    143): temp files removed, workers stopped (solver.interrupts)."""
+    with raising():
+        try:
+            with deferred():              # an import cut short by a signal fails oddly (numpy: ImportError)
+                from .parsing import print_warning, run_guarded
+
+                with warnings.catch_warnings():
+                    warnings.showwarning = print_warning
+                    args = make_parser().parse_args(argv)
+        except KeyboardInterrupt as exc:               # it arrived while the commands' modules loaded
+            print(f"ink-tables: {'terminated' if isinstance(exc, Terminated) else 'interrupted'}", file=sys.stderr)
+            return exit_status(exc)
+        prefix = f"ink-tables {args.command}"
+        return run_guarded(lambda: _run(args), prefix,
+                           f"{prefix}: {{interrupted}} (finished work units are kept; rerun to resume)")
 
 
 def _run(args) -> int:
     configure_logging(args.verbose)
     log.debug("ink-tables %s, Python %s; options %s", package_version(), sys.version.split()[0],
               {k: v for k, v in vars(args).items() if k != "func" and v is not None})
-    if threading.current_thread() is threading.main_thread():
-        signal.signal(signal.SIGTERM, _terminated)
     return args.func(args)
 
 

@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
+from solver.interrupts import Terminated, exit_status, received
 from solver.geometry.spec import PARTICLE_GRAMMAR, PARTICLE_GRAMMAR_KEY  # noqa: F401  (the commands' help)
 from solver.table.request import MAX_ANGLES, RequestError
 
@@ -28,44 +29,59 @@ def os_error_text(exc: OSError) -> str:
     return f"{exc.strerror or exc}: {exc.filename}" if exc.filename else str(exc.strerror or exc)
 
 
+def interrupted_word(exc: KeyboardInterrupt) -> str:
+    """How an interrupt is told: "interrupted" (Ctrl-C) or "terminated" (SIGTERM)."""
+    return "terminated" if isinstance(exc, Terminated) else "interrupted"
+
+
 def run_guarded(work, prefix: str = "", interrupted: str | None = None) -> int:
     """The commands' one wrapper (`ink-tables`, `python -m inkbsdf.print`, `… render`): run
     `work()` (→ exit status) with each warning said as one `warning: …` line, bad input (a
     ValueError: requests, specs, tables, images, usage) and file problems (OSError) as one
     `PREFIX: error: …` line and exit 2, a table refused for want of a converged solve
-    (solver.wave.WaveSolverError, solver/table/retry.py) as one such line and exit 1, an interrupt as the line `interrupted` and exit 130 (None:
-    the caller handles interrupts), a closed output pipe quietly (`… | head`), memory exhausted
+    (solver.wave.WaveSolverError, solver/table/retry.py) as one such line and exit 1, an interrupt
+    (Ctrl-C, or SIGTERM as solver.interrupts.Terminated) as the line `interrupted` — its
+    `{interrupted}` filled with "interrupted" or "terminated" — and exit 128 + the signal (None:
+    the caller handles interrupts), a worker process lost (killed from outside) as one line and
+    exit 1, a closed output pipe quietly (`… | head`), memory exhausted
     as one line and exit 1. Anything else is a bug and keeps its traceback."""
     lead = f"{prefix}: error:" if prefix else "error:"
     with warnings.catch_warnings():
         warnings.showwarning = print_warning
         try:
             return int(work() or 0)
-        except KeyboardInterrupt:
-            if interrupted is None:
-                raise
-            print(interrupted, file=sys.stderr)
-            return 130
-        except BrokenPipeError:
-            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
-            return 0
-        except MemoryError as exc:                  # e.g. a build forced past the preflight's estimate
-            first = str(exc).splitlines()[0] if str(exc) else "out of memory"
-            print(f"{lead} ran out of memory ({first}); use coarser settings (--grid, --wavelengths, "
-                  "--angles) or fewer --workers", file=sys.stderr)
-            return 1
-        except RuntimeError as exc:                 # a table refused: no converged solve (why)
-            from solver.wave import WaveSolverError  # (here: the commands start without NumPy)
-            if not isinstance(exc, WaveSolverError):
-                raise
+        except BaseException as exc:
+            interrupt = exc if isinstance(exc, KeyboardInterrupt) else None
+            if interrupt is None and not isinstance(exc, SystemExit):
+                interrupt = received()                # an interrupt that C code turned into another error
+            if interrupt is None or interrupted is None:
+                return _failure(exc, lead)
+            print(interrupted.replace("{interrupted}", interrupted_word(interrupt)), file=sys.stderr)
+            return exit_status(interrupt)
+
+
+def _failure(exc: BaseException, lead: str) -> int:
+    """run_guarded's exit status for a failure that is not a bug (told in one line), else the
+    exception again."""
+    if isinstance(exc, BrokenPipeError):
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
+    if isinstance(exc, MemoryError):                  # e.g. a build forced past the preflight's estimate
+        first = str(exc).splitlines()[0] if str(exc) else "out of memory"
+        print(f"{lead} ran out of memory ({first}); use coarser settings (--grid, --wavelengths, "
+              "--angles) or fewer --workers", file=sys.stderr)
+        return 1
+    if isinstance(exc, RuntimeError):                 # a table refused: no converged solve (why); a worker lost
+        from solver.table.workers import WorkerLost
+        from solver.wave import WaveSolverError        # (here: the commands start without NumPy)
+        if isinstance(exc, (WaveSolverError, WorkerLost)):
             print(f"{lead} {exc}", file=sys.stderr)
             return 1
-        except ValueError as exc:
-            print(f"{lead} {exc}", file=sys.stderr)
-            return 2
-        except OSError as exc:                      # read-only folder, full disk, missing file
-            print(f"{lead} {os_error_text(exc)}", file=sys.stderr)
-            return 2
+        raise exc
+    if isinstance(exc, (ValueError, OSError)):        # bad input; read-only folder, full disk, missing file
+        print(f"{lead} {exc if isinstance(exc, ValueError) else os_error_text(exc)}", file=sys.stderr)
+        return 2
+    raise exc
 
 
 class OneLineParser(argparse.ArgumentParser):

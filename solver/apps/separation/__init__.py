@@ -7,11 +7,14 @@ NumPy; Pillow for image files): docs/printing.md.
     result.separation.report.lines(); result.textures          # uint8 per ink, 255 = full ink
 
 Stages, one per module: `printset` (ink specs → tables of inks and overprints, through the
-cache), `printmodel` (coverages → CIELAB with `solver.printing`), `solve` (LUT + projected
-Levenberg–Marquardt), `separate` (an image's distinct colours, report), `screens` (AM and FM
+cache), `printmodel` (coverages → CIELAB under the press's measurement, 45:0 D50, with
+`solver.printing`), `gamut` (the print's gamut, perceptual gamut mapping), `black` (black
+generation, TAC), `solve` (LUT + projected Levenberg–Marquardt), `separate` (an image's
+distinct colours or a 3-D table over sRGB, report), `characterisation` (a CGATS chart), `screens` (AM and FM
 thresholds), `halftone` (texel grid, dots), `image` (files), `job` (one print's settings).
 """
 
+from .black import BLACK_MODES, BlackGeneration, InkingObjective, black_index
 from .colour_space import INTENTS, delta_e76, delta_e2000, lab_to_srgb8, srgb8_to_lab
 from .halftone import Dots, DotsError, TexelGrid, halftone_ink, parse_dots, texture_mean
 from .image import ImageError, read_srgb8, unique_colours, write_grey_png, write_rgb_png
@@ -19,10 +22,12 @@ from .job import AUTO_MODEL, PrintedImage, PrintSettings, print_image, resolve_c
 from .printmodel import PrintColourModel
 from .printset import InkListError, parse_ink_list, printed_inks
 from .screens import am_threshold, blue_noise_mask, fm_threshold, screen_angles
-from .separate import ImageSeparation, SeparationReport, separate_image
+from .gamut import GamutBoundary, GamutSettings, map_to_gamut
+from .separate import MAPPINGS, ImageSeparation, SeparationLUT, SeparationReport, Separator, separate_image
 from .solve import CoverageGrid, Separation, SolverSettings, separate_lab
 
-__all__ = ["AUTO_MODEL", "INTENTS", "CoverageGrid", "Dots", "DotsError", "ImageError", "ImageSeparation",
+__all__ = ["AUTO_MODEL", "BLACK_MODES", "BlackGeneration", "GamutBoundary", "GamutSettings", "InkingObjective",
+           "MAPPINGS", "SeparationLUT", "Separator", "black_index", "map_to_gamut", "INTENTS", "CoverageGrid", "Dots", "DotsError", "ImageError", "ImageSeparation",
            "InkListError", "PrintColourModel", "PrintSettings", "PrintedImage", "Separation",
            "SeparationReport", "SolverSettings", "TexelGrid", "am_threshold", "blue_noise_mask",
            "delta_e76", "delta_e2000", "fm_threshold", "halftone_ink", "lab_to_srgb8", "parse_dots",

@@ -20,12 +20,14 @@ import numpy as np
 
 from solver.paper import PAPER_ALBEDO, check_paper_albedo
 from solver.printing import COVERAGE_MODELS, PrintedInks
+from .black import BlackGeneration, black_index
 from .colour_space import DEFAULT_INTENT, check_intent
+from .gamut import GamutSettings
 from .halftone import Dots, TexelGrid, halftone_ink, print_size
 from .image import write_grey_png
 from .printmodel import PrintColourModel
 from .screens import screen_angles
-from .separate import ImageSeparation, separate_image
+from .separate import DEFAULT_LUT_NODES, DEFAULT_MAPPING, MAPPINGS, ImageSeparation, Separator, separate_image
 from .solve import SolverSettings
 
 AUTO_MODEL = "auto"
@@ -52,11 +54,18 @@ class PrintSettings:
     size_cm: tuple = (DEFAULT_WIDTH_CM, None)     # (width, height or None: the image's aspect)
     dpi: float | None = None                      # texture resolution (None: halftone.default_dpi)
     intent: str = DEFAULT_INTENT
+    black: BlackGeneration = BlackGeneration()   # black generation and the TAC limit
+    black_ink: str | None = None                  # None: the K ink, else the darkest neutral one
+    mapping: str = DEFAULT_MAPPING                # perceptual gamut mapping, or clip (closest colour)
+    gamut: GamutSettings = GamutSettings()
+    lut_nodes: int = DEFAULT_LUT_NODES            # separation table nodes per sRGB axis (0: none)
     solver: SolverSettings = field(default_factory=SolverSettings)
 
     def __post_init__(self):
         resolve_coverage_model(self.coverage_model, self.dots)
         check_intent(self.intent)
+        if self.mapping not in MAPPINGS:
+            raise ValueError(f"gamut mapping must be one of {', '.join(MAPPINGS)}; got {self.mapping!r}")
         check_paper_albedo(self.paper)
         if self.dpi is not None and not self.dpi > 0:
             raise ValueError(f"dpi must be positive, got {self.dpi}")
@@ -84,12 +93,21 @@ def print_image(rgb8: np.ndarray, settings: PrintSettings, printed: PrintedInks,
                 grid: TexelGrid | None = None) -> PrintedImage:
     """Separate and halftone an 8-bit sRGB image; `progress(n)` as in `separate_image`."""
     grid = grid or settings.grid(rgb8.shape[:2])
-    model = PrintColourModel.build(printed, settings.paper, settings.model, settings.intent)
-    separation = separate_image(model, rgb8, settings.solver, progress)
+    separator = build_separator(settings, printed)
+    model = separator.model
+    separation = separate_image(separator, rgb8, progress=progress)
     angles = screen_angles(model.full_ink_lightness())
     textures = tuple(halftone_ink(separation.coverages[:, :, i], grid, settings.dots, angles[i], seed=i + 1)
                      for i in range(model.n_inks))
     return PrintedImage(settings, separation, grid, angles, textures)
+
+
+def build_separator(settings: PrintSettings, printed: PrintedInks) -> Separator:
+    """The print's model, gamut, black rule and solver from its settings."""
+    model = PrintColourModel.build(printed, settings.paper, settings.model, settings.intent)
+    black = black_index(model, settings.inks, settings.black_ink)
+    return Separator.build(model, black, settings.black, settings.mapping, settings.gamut, settings.solver,
+                           settings.lut_nodes)
 
 
 def texture_name(stem: str, index: int, ink: str) -> str:

@@ -1,52 +1,149 @@
-"""Separation of an image: unique colours → CIELAB targets → coverages per pixel, with a report.
+"""Separation of an image: sRGB colours → gamut mapping → black generation → coverages per
+pixel, with a report.
 
-    result = separate_image(model, rgb8, SolverSettings(), progress=bar.update)
+    separator = Separator.build(model, black=3)            # the print's gamut, black rule, LUT init
+    result = separate_image(separator, rgb8, progress=bar)
     result.coverages                 # float32 [rows, columns, k]
     result.report.lines()            # what to tell the user
 
 Images repeat colours: only the distinct 8-bit colours are separated (`image.unique_colours`),
-then scattered back to the pixels.
+then scattered back to the pixels. An image with more distinct colours than the nodes of the
+separation's 3-D lookup table (`lut_nodes`³, default 33³ = 35,937) is separated through the
+table instead: its nodes (sRGB code values on a regular grid) are separated exactly and every
+colour is interpolated tetrahedrally between the four nodes of its tetrahedron (`lut`), the
+way an ICC B2A table is used; benchmarks/bench_separation.py measures the interpolation's
+error against the direct separation.
 """
 
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
-from .colour_space import delta_e2000, srgb8_to_lab
+from .black import BlackGeneration, InkingObjective
+from .colour_space import delta_e2000, srgb_to_lab
+from .gamut import GamutBoundary, GamutSettings, map_to_gamut
 from .image import unique_colours
 from .printmodel import PrintColourModel
-from .solve import Separation, SolverSettings, separate_lab
+from .solve import CoverageGrid, SolverSettings, separate_lab
+
+MAPPINGS = ("perceptual", "clip")
+DEFAULT_MAPPING = "perceptual"
+DEFAULT_LUT_NODES = 33
+MAPPED_DE = 0.5                     # ΔE76 a colour must move to count as gamut-mapped
+
+
+@dataclass(frozen=True)
+class Separator:
+    """Everything that turns sRGB colours into coverages for one print."""
+
+    model: PrintColourModel
+    objective: InkingObjective
+    boundary: GamutBoundary
+    grid: CoverageGrid = field(repr=False)
+    mapping: str = DEFAULT_MAPPING
+    gamut: GamutSettings = GamutSettings()
+    solver: SolverSettings = SolverSettings()
+    lut_nodes: int = DEFAULT_LUT_NODES
+
+    @classmethod
+    def build(cls, model: PrintColourModel, black: int | None = None, rule: BlackGeneration = BlackGeneration(),
+              mapping: str = DEFAULT_MAPPING, gamut: GamutSettings = GamutSettings(),
+              solver: SolverSettings = SolverSettings(), lut_nodes: int = DEFAULT_LUT_NODES) -> "Separator":
+        if mapping not in MAPPINGS:
+            raise ValueError(f"gamut mapping must be one of {', '.join(MAPPINGS)}; got {mapping!r}")
+        if lut_nodes != 0 and not 2 <= lut_nodes <= 129:
+            raise ValueError(f"lut_nodes must be 0 (no table) or in [2, 129], got {lut_nodes}")
+        boundary = GamutBoundary.build(model, rule.tac)
+        objective = InkingObjective.build(model, black, rule, boundary)
+        grid = CoverageGrid.build(objective, solver.nodes(model.n_inks))
+        return cls(model, objective, boundary, grid, mapping, gamut, solver, lut_nodes)
+
+    def targets(self, source_lab) -> np.ndarray:
+        """The colours to print of source colours (CIELAB of sRGB): gamut-mapped or as they are."""
+        if self.mapping == "clip":
+            return np.asarray(source_lab, dtype=np.float64).reshape(-1, 3)
+        return map_to_gamut(source_lab, self.boundary, self.gamut, self.model.measurement)
+
+    def separate_srgb(self, encoded, progress=None):
+        """(Separation of the mapped colours, source CIELAB) for encoded sRGB values [N, 3] in [0, 1]."""
+        source = srgb_to_lab(np.asarray(encoded, dtype=np.float64).reshape(-1, 3), self.model.measurement)
+        sep = separate_lab(self.model, self.targets(source), self.solver, self.grid, progress, self.objective)
+        return sep, source
+
+
+@dataclass(frozen=True)
+class SeparationLUT:
+    """Coverages at the nodes of a regular grid over encoded sRGB (`nodes` per axis)."""
+
+    nodes: int
+    coverages: np.ndarray            # [n, n, n, k]
+
+    @classmethod
+    def build(cls, separator: Separator, nodes: int, progress=None):
+        """(the table, the Separation of its nodes)."""
+        axis = np.linspace(0.0, 1.0, nodes)
+        rgb = np.stack(np.meshgrid(axis, axis, axis, indexing="ij"), -1).reshape(-1, 3)
+        sep, _ = separator.separate_srgb(rgb, progress)
+        return cls(nodes, sep.coverages.reshape(nodes, nodes, nodes, -1)), sep
+
+    def __call__(self, encoded) -> np.ndarray:
+        """Coverages [N, k] of encoded sRGB [N, 3] in [0, 1], tetrahedral interpolation: the cube
+        cell of the colour is cut into six tetrahedra along its main diagonal by the order of the
+        fractional parts (the method of ICC colour management modules)."""
+        x = np.clip(np.asarray(encoded, dtype=np.float64).reshape(-1, 3), 0.0, 1.0) * (self.nodes - 1)
+        i = np.minimum(np.floor(x).astype(np.int64), self.nodes - 2)
+        f = x - i
+        order = np.argsort(-f, axis=1)                               # largest fraction first
+        fs = np.take_along_axis(f, order, axis=1)
+        table = self.coverages
+        corner = i.copy()
+        out = table[corner[:, 0], corner[:, 1], corner[:, 2]] * (1.0 - fs[:, 0:1])
+        weights = (fs[:, 0] - fs[:, 1], fs[:, 1] - fs[:, 2], fs[:, 2])
+        rows = np.arange(x.shape[0])
+        for step, w in enumerate(weights):
+            corner[rows, order[:, step]] += 1
+            out += table[corner[:, 0], corner[:, 1], corner[:, 2]] * w[:, None]
+        return out
 
 
 @dataclass(frozen=True)
 class SeparationReport:
-    """Pixel statistics of a separation (ΔE between each pixel's colour and its print)."""
+    """Pixel statistics of a separation: how far the gamut mapping moved the colours, and how
+    closely the print matches the mapped colours."""
 
     pixels: int
     unique_colours: int
-    clipped_pixels: int                  # out of gamut: ΔE76 > gamut_de
+    mapped_pixels: int                   # moved by more than MAPPED_DE by the gamut mapping
+    mapping: str
+    mapped_mean_de2000: float            # source → print, over the mapped pixels (0 when none)
+    mapped_max_de2000: float
+    mean_de2000: float                   # source → print, all pixels
+    residual_max_de76: float             # mapped colour → print (the solver's miss)
+    residual_pixels: int                 # pixels (table nodes with a LUT) whose miss exceeds gamut_de
     gamut_de: float
-    mean_de76: float                     # over all pixels
-    clipped_mean_de76: float             # over the clipped pixels (0 when none)
-    clipped_max_de76: float
-    clipped_mean_de2000: float
-    clipped_max_de2000: float
+    lut_nodes: int                       # 0: every colour separated directly
+    black: str
     seconds: float
 
     def lines(self) -> list[str]:
-        share = self.clipped_pixels / max(self.pixels, 1)
-        out = [f"separated {self.pixels:,} pixels ({self.unique_colours:,} distinct colours) in "
-               f"{self.seconds:.1f} s; mean ΔE76 {self.mean_de76:.2f}"]
-        if self.clipped_pixels:
-            out.append(f"out of gamut (ΔE76 > {self.gamut_de:g}), clipped to the closest printable colour: "
-                       f"{self.clipped_pixels:,} pixels ({share:.1%}); ΔE76 mean {self.clipped_mean_de76:.2f}, "
-                       f"max {self.clipped_max_de76:.2f}; ΔE2000 mean {self.clipped_mean_de2000:.2f}, "
-                       f"max {self.clipped_max_de2000:.2f}")
+        share = self.mapped_pixels / max(self.pixels, 1)
+        how = (f"through a {self.lut_nodes}³ table" if self.lut_nodes else "directly")
+        out = [f"separated {self.pixels:,} pixels ({self.unique_colours:,} distinct colours) {how} in "
+               f"{self.seconds:.1f} s; {self.black}; mean ΔE2000 image → print {self.mean_de2000:.2f}"]
+        if self.mapped_pixels:
+            verb = "gamut-mapped (perceptual)" if self.mapping == "perceptual" else "clipped to the closest printable colour"
+            out.append(f"out of gamut, {verb}: {self.mapped_pixels:,} pixels ({share:.1%}); ΔE2000 mean "
+                       f"{self.mapped_mean_de2000:.2f}, max {self.mapped_max_de2000:.2f}")
         else:
-            out.append(f"every pixel in gamut (ΔE76 ≤ {self.gamut_de:g})")
+            out.append("every pixel in gamut")
+        if self.residual_pixels:
+            what = "table nodes" if self.lut_nodes else "pixels"
+            out.append(f"{self.residual_pixels:,} {what} miss their mapped colour by more than ΔE76 "
+                       f"{self.gamut_de:g} (max {self.residual_max_de76:.2f}): the print's gamut is not "
+                       "convex there, they take the closest printable colour")
         return out
 
 
@@ -57,37 +154,57 @@ class ImageSeparation:
     report: SeparationReport
 
 
-def separate_image(model: PrintColourModel, rgb8: np.ndarray, settings: SolverSettings = SolverSettings(),
+def separate_image(separator, rgb8: np.ndarray, settings: SolverSettings | None = None,
                    progress=None) -> ImageSeparation:
-    """Separate an 8-bit sRGB image [rows, columns, 3]; `progress(done, total)` is called with
-    the number of distinct colours separated so far and their total."""
+    """Separate an 8-bit sRGB image [rows, columns, 3] (a `Separator`, or a PrintColourModel for
+    the defaults with no black); `progress(done, total)` is called with the number of colours
+    (distinct colours, or LUT nodes) separated so far and their total."""
     t0 = time.perf_counter()
+    if isinstance(separator, PrintColourModel):
+        separator = Separator.build(separator, solver=settings or SolverSettings())
+    model = separator.model
     rows, cols = rgb8.shape[:2]
     colours, index = unique_colours(rgb8)
+    encoded = colours / 255.0
+    use_lut = separator.lut_nodes and colours.shape[0] > separator.lut_nodes ** 3
+    total = separator.lut_nodes ** 3 if use_lut else colours.shape[0]
     done = [0]
 
     def chunk_done(n: int) -> None:
         done[0] += n
-        progress(done[0], colours.shape[0])
+        progress(done[0], total)
 
     if progress is not None:
-        progress(0, colours.shape[0])
-    sep: Separation = separate_lab(model, srgb8_to_lab(colours), settings,
-                                   progress=chunk_done if progress is not None else None)
+        progress(0, total)
+    bar = chunk_done if progress is not None else None
+    source = srgb_to_lab(encoded, model.measurement)
     counts = np.bincount(index, minlength=colours.shape[0])
-    de = sep.delta_e76
-    clipped = sep.out_of_gamut
-    n_clipped = int(counts[clipped].sum())
-    if n_clipped:
-        de00 = delta_e2000(sep.printed_lab[clipped], sep.target_lab[clipped])
-        w = counts[clipped]
-        stats = (float(np.average(de[clipped], weights=w)), float(de[clipped].max()),
-                 float(np.average(de00, weights=w)), float(de00.max()))
+    if use_lut:
+        lut, sep = SeparationLUT.build(separator, separator.lut_nodes, bar)
+        coverages = lut(encoded)
+        printed = model.lab(coverages)
+        moved = np.linalg.norm(printed - source, axis=-1) > MAPPED_DE      # mapped or missed
+        miss = sep.delta_e76                                               # at the table's nodes
+        missed_count = int(np.sum(miss > separator.solver.gamut_de))
     else:
-        stats = (0.0, 0.0, 0.0, 0.0)
-    report = SeparationReport(rows * cols, colours.shape[0], n_clipped, sep.gamut_de,
-                              float(np.average(de, weights=counts)), *stats, time.perf_counter() - t0)
+        sep, _ = separator.separate_srgb(encoded, bar)
+        coverages, printed = sep.coverages, sep.printed_lab
+        moved = np.linalg.norm(sep.target_lab - source, axis=-1) > MAPPED_DE
+        miss = sep.delta_e76
+        missed_count = int(counts[miss > separator.solver.gamut_de].sum())
+    if separator.mapping == "clip":                  # the solver's miss is the clipping
+        moved = np.linalg.norm(printed - source, axis=-1) > separator.solver.gamut_de
+        missed_count = 0
+    de00 = delta_e2000(printed, source)
+    w = counts[moved]
+    report = SeparationReport(
+        rows * cols, colours.shape[0], int(w.sum()), separator.mapping,
+        float(np.average(de00[moved], weights=w)) if w.sum() else 0.0, float(de00[moved].max(initial=0.0)),
+        float(np.average(de00, weights=counts)), float(miss.max(initial=0.0)), missed_count,
+        separator.solver.gamut_de, separator.lut_nodes if use_lut else 0,
+        ("black: " + separator.objective.rule.label()) if separator.objective.black is not None
+        else f"no black ink, TAC {100 * separator.objective.rule.tac:g} %",
+        time.perf_counter() - t0)
     k = model.n_inks
-    coverages = sep.coverages.astype(np.float32)[index].reshape(rows, cols, k)
-    printed = sep.printed_lab.astype(np.float32)[index].reshape(rows, cols, 3)
-    return ImageSeparation(coverages, printed, report)
+    return ImageSeparation(coverages.astype(np.float32)[index].reshape(rows, cols, k),
+                           printed.astype(np.float32)[index].reshape(rows, cols, 3), report)

@@ -111,7 +111,7 @@ def jacobian(model: PrintColourModel, c: np.ndarray, lab: np.ndarray, step: floa
     shifted = np.repeat(c[:, None, :], k, axis=1)                 # [n, k(perturbed), k]
     idx = np.arange(k)
     shifted[:, idx, idx] += h
-    lab_shifted = model.lab(shifted.reshape(n * k, k)).reshape(n, k, 3)
+    lab_shifted = model.lab(shifted.reshape(n * k, k)).reshape(n, k, -1)
     return np.moveaxis((lab_shifted - lab[:, None, :]) / h[:, :, None], 1, 2)
 
 
@@ -129,7 +129,7 @@ def lm_solve(model: PrintColourModel, targets: np.ndarray, start: np.ndarray,
     mu = np.full(n, 1e-3)
     iterations = np.zeros(n, dtype=np.int64)
     running = cost > settings.tolerance_de ** 2
-    J = np.zeros((n, 3, k))
+    J = np.zeros((n, lab.shape[-1], k))
     stale = np.ones(n, dtype=bool)                  # J needs finite differences
     eye = np.eye(k)
     for _ in range(settings.max_iterations):
@@ -228,22 +228,27 @@ def multistart(model: PrintColourModel, targets: np.ndarray, grid: CoverageGrid,
 
 def separate_lab(model: PrintColourModel, target_lab, settings: SolverSettings = SolverSettings(),
                  grid: CoverageGrid | None = None,
-                 progress: Callable[[int], None] | None = None) -> Separation:
+                 progress: Callable[[int], None] | None = None, objective=None) -> Separation:
     """Separate CIELAB targets [N, 3] (relative to the model's white) into coverages [N, k].
 
+    `objective` (`black.InkingObjective` of `model`) adds the black aim and the total area
+    coverage limit to the residuals (the grid, when given, must be built on it).
     `progress(n)` is called after each chunk of n targets (e.g. a tqdm bar's update)."""
     targets = np.asarray(target_lab, dtype=np.float64).reshape(-1, 3)
     if not np.all(np.isfinite(targets)):
         raise ValueError("target colours must be finite")
-    grid = grid or CoverageGrid.build(model, settings.nodes(model.n_inks))
+    solved = objective if objective is not None else model
+    wanted = objective.targets(targets) if objective is not None else targets
+    grid = grid or CoverageGrid.build(solved, settings.nodes(model.n_inks))
     k = model.n_inks
     coverages = np.empty((targets.shape[0], k))
-    printed = np.empty_like(targets)
     iterations = np.zeros(targets.shape[0], dtype=np.int64)
     for start in range(0, targets.shape[0], settings.chunk):
         part = slice(start, start + settings.chunk)
-        t = targets[part]
-        coverages[part], printed[part], iterations[part] = multistart(model, t, grid, settings)
+        t = wanted[part]
+        coverages[part], _, iterations[part] = multistart(solved, t, grid, settings)
         if progress is not None:
             progress(t.shape[0])
-    return Separation(coverages, targets, printed, iterations, settings.gamut_de)
+    if objective is not None:
+        coverages = objective.enforce_tac(coverages)
+    return Separation(coverages, targets, model.lab(coverages), iterations, settings.gamut_de)

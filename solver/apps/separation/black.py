@@ -1,0 +1,173 @@
+"""Black generation and the total area coverage limit (docs/printing.md, "Black generation").
+
+    rule = BlackGeneration("gcr", strength=0.7, start=0.2, tac=3.0)
+    objective = InkingObjective.build(model, black=3, rule=rule, boundary=boundary)
+    separate_lab(objective, objective.targets(lab))       # colour first, then the black aim
+
+With a black ink, a colour has a one-parameter family of separations (three equations, four
+unknowns). The rule picks one by an *aim* for the black coverage K of each target colour:
+
+    K_n(L*)   the black alone that prints lightness L* (its ramp inverted; 0 above the paper)
+    g         greyness: 1 − C*/C*_max(h, L*) against the print's gamut (1 on the neutral axis,
+              0 on the gamut's boundary)
+    gcr       x = K_n·g          (grey component replacement: black takes the grey part of every colour)
+    ucr       x = K_n·g⁴         (under-colour removal: black in the near-neutral shadows only)
+    K_aim     strength · x · smoothstep((x − start)/(1 − start))    (no black below the start,
+              entering without a kink)
+
+and the separation minimises |Lab(c) − t|² + (w_K·(c_K − K_aim))² + (w_TAC·max(0, Σc − TAC))²:
+the colour is matched first (w_K = `K_WEIGHT` ΔE per unit coverage is small against the colour's
+sensitivity, so the aim gives way where the colour needs more or less black) and the total area
+coverage limit is a stiff penalty, enforced exactly at the end by scaling the chromatic inks
+(`enforce_tac`). Defaults: `BlackGeneration()` — GCR, strength 0.7, start 0.2, TAC 300 %.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+BLACK_MODES = ("gcr", "ucr")
+DEFAULT_TAC = 3.0                # 300 %
+K_WEIGHT = 3.0                   # ΔE per unit coverage of the black aim's residual
+TAC_WEIGHT = 300.0               # ΔE per unit coverage above the limit
+_UCR_POWER = 4
+
+
+@dataclass(frozen=True)
+class BlackGeneration:
+    """How much black a colour gets (module docstring); `tac` is a fraction (3.0 = 300 %)."""
+
+    mode: str = "gcr"
+    strength: float = 0.7
+    start: float = 0.2
+    tac: float = DEFAULT_TAC
+
+    def __post_init__(self):
+        if self.mode not in BLACK_MODES:
+            raise ValueError(f"black generation must be one of {', '.join(BLACK_MODES)}; got {self.mode!r}")
+        if not 0.0 <= self.strength <= 1.0:
+            raise ValueError(f"black strength must lie in [0, 1], got {self.strength}")
+        if not 0.0 <= self.start < 1.0:
+            raise ValueError(f"black start must lie in [0, 1), got {self.start}")
+        if not 1.0 <= self.tac <= 4.0:
+            raise ValueError(f"total area coverage limit must lie in [100, 400] %, got {100 * self.tac:g} %")
+
+    def label(self) -> str:
+        return f"{self.mode.upper()} strength {self.strength:g}, start {self.start:g}, TAC {100 * self.tac:g} %"
+
+    def aim(self, k_neutral, greyness) -> np.ndarray:
+        """K_aim from the neutral black K_n and the greyness g (module docstring)."""
+        g = np.clip(greyness, 0.0, 1.0)
+        x = np.clip(k_neutral, 0.0, 1.0) * (g if self.mode == "gcr" else g ** _UCR_POWER)
+        t = np.clip((x - self.start) / (1.0 - self.start), 0.0, 1.0)
+        return self.strength * x * t * t * (3.0 - 2.0 * t)
+
+
+def find_black(model) -> int | None:
+    """Index of the ink that is the black: the darkest solid whose chroma is below a quarter of
+    its distance from white in L* — None when no ink is that dark and neutral."""
+    lab = model.lab(np.eye(model.n_inks))
+    chroma = np.hypot(lab[:, 1], lab[:, 2])
+    neutral = (lab[:, 0] < 40.0) & (chroma < 0.25 * (100.0 - lab[:, 0]))
+    if not neutral.any():
+        return None
+    return int(np.flatnonzero(neutral)[np.argmin(lab[neutral, 0])])
+
+
+def black_index(model, inks, black_spec: str | None) -> int | None:
+    """The black ink's index: `black_spec` (an ink of `inks`, or 'none'), else the ink whose
+    pigment is K, else `find_black`."""
+    if black_spec is not None:
+        if black_spec == "none":
+            return None
+        if black_spec not in inks:
+            raise ValueError(f"black ink {black_spec!r} is not one of the inks ({', '.join(inks)})")
+        return inks.index(black_spec)
+    from solver.inks import parse_ink
+
+    for i, spec in enumerate(inks):
+        if [code for code, _ in parse_ink(spec).components] == ["K"]:
+            return i
+    return find_black(model)
+
+
+@dataclass(frozen=True)
+class InkingObjective:
+    """The separation's residuals: colour (3), the black aim (1, with a black), the TAC (1)."""
+
+    model: object                  # PrintColourModel
+    black: int | None
+    rule: BlackGeneration
+    k_lightness: np.ndarray        # L* of the black alone at K_NODES coverages (decreasing)
+    boundary: object               # GamutBoundary (greyness), or None
+
+    K_NODES = 65
+
+    @classmethod
+    def build(cls, model, black: int | None, rule: BlackGeneration = BlackGeneration(), boundary=None):
+        k = np.zeros((cls.K_NODES, model.n_inks))
+        if black is not None:
+            k[:, black] = np.linspace(0.0, 1.0, cls.K_NODES)
+        return cls(model, black, rule, model.lab(k)[:, 0], boundary)
+
+    @property
+    def n_inks(self) -> int:
+        return self.model.n_inks
+
+    @property
+    def extras(self) -> int:
+        return 2 if self.black is not None else 1
+
+    def k_neutral(self, L) -> np.ndarray:
+        """K_n(L*): the black alone that prints lightness L* (0 above paper, 1 below the solid)."""
+        lk = self.k_lightness
+        return np.interp(-np.asarray(L, dtype=np.float64), -lk, np.linspace(0.0, 1.0, lk.size))
+
+    def k_aim(self, lab) -> np.ndarray:
+        from .gamut import to_lch
+
+        L, C, h = to_lch(lab)
+        if self.boundary is None:
+            greyness = np.ones_like(L)
+        else:
+            cmax = self.boundary.chroma_max(h, L)
+            greyness = 1.0 - C / np.maximum(cmax, 1e-6)
+            greyness = np.where(cmax > 0, greyness, 1.0)
+        return self.rule.aim(self.k_neutral(L), greyness)
+
+    def targets(self, lab) -> np.ndarray:
+        """Targets [N, 3 + extras] of the colours `lab` [N, 3]."""
+        lab = np.asarray(lab, dtype=np.float64).reshape(-1, 3)
+        cols = [lab]
+        if self.black is not None:
+            cols.append(K_WEIGHT * self.k_aim(lab)[:, None])
+        cols.append(np.zeros((lab.shape[0], 1)))
+        return np.concatenate(cols, axis=1)
+
+    def lab(self, coverages) -> np.ndarray:
+        """The residual vector's model side [..., 3 + extras] (named `lab` for the solver)."""
+        c = np.asarray(coverages, dtype=np.float64)
+        cols = [self.model.lab(c)]
+        if self.black is not None:
+            cols.append(K_WEIGHT * c[..., self.black:self.black + 1])
+        cols.append(TAC_WEIGHT * np.maximum(c.sum(axis=-1, keepdims=True) - self.rule.tac, 0.0))
+        return np.concatenate(cols, axis=-1)
+
+    def enforce_tac(self, coverages) -> np.ndarray:
+        """Coverages with Σc ≤ TAC: the chromatic inks scaled down where the sum is over it."""
+        c = np.array(coverages, dtype=np.float64)
+        over = c.sum(axis=-1) - self.rule.tac
+        bad = over > 0
+        if not bad.any():
+            return c
+        chromatic = np.ones(c.shape[-1], dtype=bool)
+        if self.black is not None:
+            chromatic[self.black] = False
+        cs = c[bad][:, chromatic]
+        scale = np.clip(1.0 - over[bad] / np.maximum(cs.sum(axis=-1), 1e-12), 0.0, 1.0)
+        c_bad = c[bad]
+        c_bad[:, chromatic] = cs * scale[:, None]
+        c[bad] = c_bad
+        return c

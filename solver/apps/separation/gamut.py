@@ -1,0 +1,262 @@
+"""Perceptual gamut mapping: sRGB colours → printable colours, hue kept, compressed toward the
+cusp of their hue (docs/printing.md, "Gamut mapping").
+
+    boundary = GamutBoundary.build(model, tac=3.0)          # the print's gamut, per hue slice
+    mapped = map_to_gamut(srgb_lab, boundary)                # CIELAB [N, 3] inside the gamut
+
+**The print's gamut** (`GamutBoundary`): the printed colours of a dense sample of coverage
+space (a regular grid, every 2-D face of the coverage cube finer, mixes over the total area
+coverage limit scaled onto it) in CIELCh under the model's measurement (45:0, D50 by default).
+Per hue slice (`HUE_BINS` slices, each gathering the samples within one slice width of its
+hue) the boundary is the convex hull of the samples in the (C*, L*) half-plane, tabulated as the
+largest chroma C_max(h, L*) on `LIGHTNESS_NODES` lightness levels and interpolated bilinearly
+(periodic in hue). Convex slices give every ray from the neutral axis one exit, so the mapping
+below is continuous; where the true gamut is concave the hull overestimates it slightly and the
+separation takes the closest printable colour there (its ΔE is reported). The cusp of a hue is
+the (L*, C*) of its largest chroma.
+
+**The mapping** (`map_to_gamut`, vectorised):
+
+1. Lightness (black-point compensation): L' = L_black + L*·(L_white − L_black)/100, where
+   L_white is the print's white (100 relative to the paper) and L_black the darkest neutral the
+   print reaches; a*, b* unchanged.
+2. Chroma toward the cusp: in the hue slice of the colour, along the ray from the focal point
+   F = (C* 0, L_F) through the colour, L_F = L*_cusp(h) + w·(L' − L*_cusp(h)) between the
+   cusp's lightness (w = 0: all rays to the cusp, the most chroma) and the colour's own (w → 1:
+   constant lightness, the most faithful lightness ordering; `lightness_weight`, default 0.5), with d its distance from F, D the
+   distance to the print's boundary (less `margin_de` of chroma) and S the distance to the sRGB gamut's
+   boundary (after step 1): if S ≤ D nothing moves; else colours within `knee`·D keep their place
+   and beyond it d ↦ kD + (D − kD)·s·t/(1 + (s − 1)·t), t = (d − kD)/(S − kD),
+   s = (S − kD)/(D − kD) — slope 1 at the knee (no kink), the sRGB boundary lands on the print's
+   boundary, monotone along the ray. Hue is untouched.
+
+Every step is continuous in the colour, so smooth gradients stay smooth (no notch where
+nearest-colour clipping would fold a ramp onto the boundary) and ramps that rise in L* stay
+monotone (tests/test_separation_gamut.py).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from itertools import combinations, product
+
+import numpy as np
+
+from .colour_space import lab_to_linear_srgb
+
+HUE_BINS = 180                  # hue slices (2° each)
+LIGHTNESS_NODES = 201           # L* levels 0, 0.5, …, 100 of the boundary table
+GRID_NODES = {1: 257, 2: 129, 3: 33, 4: 15}     # regular-grid samples per ink axis
+FACE_NODES = 65                 # samples per axis on each 2-D face of the coverage cube
+RAY_STEP_DE = 1.0               # marching step along a ray (CIELAB units) before bisection
+RAY_MAX_DE = 200.0
+BISECTIONS = 12
+
+
+@dataclass(frozen=True)
+class GamutSettings:
+    """Knobs of the mapping (benchmarks/bench_separation.py measures them)."""
+
+    knee: float = 0.8           # share of the print's boundary distance left untouched
+    lightness_weight: float = 0.5   # focal point: 0 the hue's cusp L*, 1 the colour's own L*
+    margin_de: float = 0.5      # mapped colours land this much chroma (CIELAB units) inside the boundary
+
+    def __post_init__(self):
+        if not 0.0 <= self.lightness_weight < 1.0:
+            raise ValueError(f"lightness_weight must lie in [0, 1), got {self.lightness_weight}")
+        if not 0.0 <= self.knee < 1.0:
+            raise ValueError(f"knee must lie in [0, 1), got {self.knee}")
+        if not self.margin_de >= 0.0:
+            raise ValueError(f"margin_de must be ≥ 0, got {self.margin_de}")
+
+
+def to_lch(lab) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(L*, C*, h in degrees [0, 360)) of CIELAB [..., 3]."""
+    lab = np.asarray(lab, dtype=np.float64)
+    return lab[..., 0], np.hypot(lab[..., 1], lab[..., 2]), np.degrees(np.arctan2(lab[..., 2], lab[..., 1])) % 360.0
+
+
+def from_lch(L, C, h_deg) -> np.ndarray:
+    h = np.radians(h_deg)
+    return np.stack([L, C * np.cos(h), C * np.sin(h)], axis=-1)
+
+
+def coverage_samples(n_inks: int, tac: float) -> np.ndarray:
+    """Coverage mixes [M, k] that sample the print's gamut and its boundary (module docstring);
+    mixes whose sum exceeds `tac` are scaled onto the limit."""
+    n = GRID_NODES.get(n_inks, 9)
+    axis = np.linspace(0.0, 1.0, n)
+    parts = [np.stack(np.meshgrid(*([axis] * n_inks), indexing="ij"), -1).reshape(-1, n_inks)]
+    face = np.linspace(0.0, 1.0, FACE_NODES)
+    fu, fv = (a.ravel() for a in np.meshgrid(face, face, indexing="ij"))
+    for i, j in combinations(range(n_inks), 2):
+        others = [m for m in range(n_inks) if m not in (i, j)]
+        for fixed in product((0.0, 1.0), repeat=len(others)):
+            c = np.zeros((fu.size, n_inks))
+            c[:, i], c[:, j] = fu, fv
+            for m, v in zip(others, fixed):
+                c[:, m] = v
+            parts.append(c)
+    c = np.concatenate(parts)
+    total = c.sum(axis=-1, keepdims=True)
+    return np.where(total > tac, c * (tac / np.maximum(total, 1e-12)), c)
+
+
+def _hull_chroma(C, L, levels) -> np.ndarray:
+    """C_max at each of `levels` (L*) of the convex hull of points (C, L) plus the neutral axis
+    between their lightest and darkest L; −1 outside the hull's lightness range."""
+    from scipy.spatial import ConvexHull
+
+    pts = np.concatenate([np.stack([C, L], -1), [[0.0, L.min()], [0.0, L.max()]]])
+    try:
+        poly = pts[ConvexHull(pts).vertices]
+    except Exception:                                     # degenerate slice (collinear samples)
+        poly = pts
+    a, b = poly, np.roll(poly, -1, axis=0)
+    lo, hi = np.minimum(a[:, 1], b[:, 1]), np.maximum(a[:, 1], b[:, 1])
+    lv = levels[:, None]
+    cross = (lv >= lo) & (lv <= hi)
+    t = np.where(hi > lo, (lv - a[:, 1]) / np.where(b[:, 1] != a[:, 1], b[:, 1] - a[:, 1], 1.0), 0.0)
+    c = np.where(hi > lo, a[:, 0] + t * (b[:, 0] - a[:, 0]), np.maximum(a[:, 0], b[:, 0]))
+    return np.max(np.where(cross, c, -1.0), axis=1)
+
+
+@dataclass(frozen=True)
+class GamutBoundary:
+    """The print's gamut as C_max(h, L*) per hue slice (module docstring)."""
+
+    hue_deg: np.ndarray            # [H] slice centres
+    lightness: np.ndarray          # [NL] levels
+    cmax: np.ndarray               # [H, NL]; −1 where the slice has no colour of that L*
+    white_l: float                 # L* of the print's white (bare paper)
+    black_l: float                 # L* of the darkest neutral the print reaches
+    cusp_l: np.ndarray             # [H]
+    cusp_c: np.ndarray             # [H]
+
+    @classmethod
+    def build(cls, model, tac: float = float("inf")) -> "GamutBoundary":
+        """The gamut of `model` (PrintColourModel) under the total area coverage limit `tac`
+        (fraction: 3.0 = 300 %)."""
+        c = coverage_samples(model.n_inks, tac)
+        L, C, h = to_lch(model.lab(c))
+        return cls.from_samples(L, C, h, float(model.lab(np.zeros(model.n_inks))[0]))
+
+    @classmethod
+    def from_samples(cls, L, C, h, white_l: float) -> "GamutBoundary":
+        width = 360.0 / HUE_BINS
+        centres = (np.arange(HUE_BINS) + 0.5) * width
+        levels = np.linspace(0.0, 100.0, LIGHTNESS_NODES)
+        cmax = np.empty((HUE_BINS, LIGHTNESS_NODES))
+        for j, hc in enumerate(centres):
+            dh = np.abs((h - hc + 180.0) % 360.0 - 180.0)
+            sel = dh <= width
+            proj = C[sel] * np.cos(np.radians(dh[sel]))   # the samples' chroma along the slice
+            cmax[j] = _hull_chroma(proj, L[sel], levels) if sel.sum() >= 3 else -1.0
+        # the darkest neutral: the lowest L* every slice reaches (with some chroma to spare)
+        reach = np.where(cmax >= 0.0, levels[None, :], np.inf).min(axis=1)
+        black_l = float(np.max(reach))
+        cmax[:, levels < black_l] = np.minimum(cmax[:, levels < black_l], -1.0)
+        cmax[:, (levels >= black_l) & (levels <= white_l)] = np.maximum(
+            cmax[:, (levels >= black_l) & (levels <= white_l)], 0.0)
+        best = np.argmax(cmax, axis=1)
+        return cls(centres, levels, cmax, float(white_l), black_l, levels[best],
+                   cmax[np.arange(HUE_BINS), best])
+
+    def _hue_weights(self, h_deg):
+        width = 360.0 / HUE_BINS
+        x = (np.asarray(h_deg, dtype=np.float64) / width - 0.5) % HUE_BINS
+        i0 = np.floor(x).astype(np.int64) % HUE_BINS
+        return i0, (i0 + 1) % HUE_BINS, x - np.floor(x)
+
+    def cusp(self, h_deg) -> tuple[np.ndarray, np.ndarray]:
+        """(L*, C*) of the cusp at hues `h_deg` (linear between slices)."""
+        i0, i1, t = self._hue_weights(h_deg)
+        return (self.cusp_l[i0] * (1 - t) + self.cusp_l[i1] * t,
+                self.cusp_c[i0] * (1 - t) + self.cusp_c[i1] * t)
+
+    def chroma_max(self, h_deg, L) -> np.ndarray:
+        """C_max at (h, L*) (bilinear; −1 outside the print's lightness range)."""
+        i0, i1, t = self._hue_weights(h_deg)
+        x = np.clip(np.asarray(L, dtype=np.float64), 0.0, 100.0) / 100.0 * (LIGHTNESS_NODES - 1)
+        j0 = np.minimum(np.floor(x).astype(np.int64), LIGHTNESS_NODES - 2)
+        u = x - j0
+        row = lambda i: self.cmax[i, j0] * (1 - u) + self.cmax[i, j0 + 1] * u      # noqa: E731
+        out = row(i0) * (1 - t) + row(i1) * t
+        return np.where((np.asarray(L) < self.black_l) | (np.asarray(L) > self.white_l), -1.0, out)
+
+    def contains(self, lab) -> np.ndarray:
+        L, C, h = to_lch(lab)
+        return C <= self.chroma_max(h, L)
+
+    def lightness_map(self, L) -> np.ndarray:
+        """Black-point compensation: L* 0…100 → black_l…white_l (linear)."""
+        return self.black_l + np.asarray(L, dtype=np.float64) * (self.white_l - self.black_l) / 100.0
+
+    def lightness_unmap(self, L) -> np.ndarray:
+        return (np.asarray(L, dtype=np.float64) - self.black_l) * 100.0 / (self.white_l - self.black_l)
+
+
+def _ray_exit(inside, n: int) -> np.ndarray:
+    """Distance along each of n rays to the first point where `inside(s)` ([n] distances →
+    [n] bool) turns false: marching by RAY_STEP_DE, then bisection. Rays never leaving within
+    RAY_MAX_DE give RAY_MAX_DE."""
+    lo = np.zeros(n)
+    hi = np.full(n, RAY_MAX_DE)
+    found = np.zeros(n, dtype=bool)
+    for s in np.arange(RAY_STEP_DE, RAY_MAX_DE + RAY_STEP_DE / 2, RAY_STEP_DE):
+        todo = ~found
+        if not todo.any():
+            break
+        out = ~inside(np.full(n, s))
+        newly = todo & out
+        hi[newly] = s
+        found |= newly
+        lo[todo & ~out] = s
+    for _ in range(BISECTIONS):
+        mid = 0.5 * (lo + hi)
+        ok = inside(mid)
+        lo = np.where(ok, mid, lo)
+        hi = np.where(ok, hi, mid)
+    return np.where(found, lo, RAY_MAX_DE)
+
+
+def map_to_gamut(lab, boundary: GamutBoundary, settings: GamutSettings = GamutSettings(),
+                 measurement=None) -> np.ndarray:
+    """sRGB colours in CIELAB [N, 3] (relative to the measurement white, from `srgb8_to_lab`)
+    → CIELAB [N, 3] inside the print's gamut (module docstring)."""
+    from .colour_space import DEFAULT_MEASUREMENT
+
+    measurement = measurement or DEFAULT_MEASUREMENT
+    lab = np.asarray(lab, dtype=np.float64).reshape(-1, 3)
+    L, C, h = to_lch(lab)
+    L1 = boundary.lightness_map(L)
+    cusp_l, _ = boundary.cusp(h)
+    F = cusp_l + settings.lightness_weight * (L1 - cusp_l)
+    vc, vl = C, L1 - F
+    d = np.hypot(vc, vl)
+    moving = d > 1e-9
+    uc = np.where(moving, vc / np.where(moving, d, 1.0), 0.0)
+    ul = np.where(moving, vl / np.where(moving, d, 1.0), 1.0)
+
+    def in_print(s):
+        return (C_at(s) <= boundary.chroma_max(h, F + s * ul))
+
+    def C_at(s):
+        return s * uc
+
+    def in_srgb(s):
+        lab_s = from_lch(boundary.lightness_unmap(F + s * ul), C_at(s), h)
+        rgb = lab_to_linear_srgb(lab_s, measurement)
+        return np.all((rgb >= -1e-6) & (rgb <= 1.0 + 1e-6), axis=-1)
+
+    n = lab.shape[0]
+    # the margin is taken in chroma (a neutral at the print's black or white stays there)
+    D = np.maximum(_ray_exit(in_print, n) - settings.margin_de * np.abs(uc), 0.0)
+    S = np.maximum(_ray_exit(in_srgb, n), d)                  # an sRGB colour lies inside its gamut
+    k = settings.knee * D
+    squeeze = moving & (S > D) & (d > k)
+    s_ratio = (S - k) / np.maximum(D - k, 1e-12)
+    t = (d - k) / np.maximum(S - k, 1e-12)
+    mapped = np.minimum(k + (D - k) * s_ratio * t / (1.0 + (s_ratio - 1.0) * t), D)
+    d_new = np.where(squeeze, mapped, d)
+    return from_lch(F + d_new * ul, d_new * uc, h)
