@@ -149,8 +149,6 @@ def _bad_cases(tmp, tables, unwritable):
         "output read-only": ([scene, "-o", str(unwritable / "x.exr")], "cannot write in"),
         "png read-only": (base + ["--png", str(unwritable / "x.png")], "--png"),
         "variant bogus": (base + ["--variant", "bogus"], "llvm_ad_spectral"),
-        "variant rgb": (base + ["--variant", "scalar_rgb"], "scalar_spectral"),
-        "variant mono polarized": (base + ["--variant", "llvm_ad_mono_polarized"], "llvm_ad_spectral_polarized"),
         "param type": ([str(bare_scene(tmp, r30 + '<string name="paper" value="white"/>', name="t.xml")),
                         "-o", exr], "parameter 'paper'"),
         "param value": ([str(bare_scene(tmp, '<string name="ink" value="R30"/><string name="thickness" '
