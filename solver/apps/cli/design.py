@@ -163,8 +163,9 @@ def report_lines(result, measurement_label: str) -> str:
              f"  recipe  {result.recipe_label}" + (f"  on paper albedo {result.paper:.4f}"
                                                    if result.recipe is not None or result.stack else ""),
              f"  colour  L*a*b* ({lab[0]:.2f}, {lab[1]:.2f}, {lab[2]:.2f})  ΔE2000 {result.de2000:.2f}",
-             f"  cost    {result.seconds:.2f} s, {result.films} film tables, {result.evaluations} evaluations"
-             + (f", {result.particle_tables} particle tables (cache)" if result.particle_tables else "")]
+             (f"  cost    {result.seconds:.2f} s, {result.films} film tables, {result.evaluations} evaluations"
+              + (f", {result.particle_tables} particle tables (cache)" if result.particle_tables else ""))
+             if not result.stack else "  cost    measured with its inks' designs (the total below)"]
     if not result.reached:
         if result.stack:
             lines.append(f"  out of reach: ΔE2000 {result.de2000:.2f} (an overprint has no parameters of its own: "
