@@ -55,7 +55,7 @@ def add_parser(sub) -> None:
     lf = p.add_mutually_exclusive_group()
     lf.add_argument("--local-field", dest="local_field", action="store_true", default=None,
                     help="pigments with their grains' local field in the binder (the tables' default)")
-    lf.add_argument("--no-local-field", dest="local_field", action="store_false",
+    lf.add_argument("--no-local-field", dest="local_field", action="store_false", default=None,
                     help="pigments with their bulk permittivity (the paper's volume mix)")
     p.add_argument("--tolerance", type=float, default=None, metavar="DE2000",
                    help="ΔE2000 within which an aim counts as reached (default: 3 for ISO 12647-2 solids and "
