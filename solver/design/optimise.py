@@ -102,7 +102,10 @@ def minimise_de(colour_of, aim_lab, bounds: np.ndarray, feasible=lambda x: True,
         if not feasible(x):
             return 1e6
         count[0] += 1
-        return float(delta_e2000(colour_of(x), aim))
+        value = float(delta_e2000(colour_of(x), aim))
+        if not np.isfinite(value):              # never expected: a film is finite by construction
+            raise ArithmeticError(f"ΔE2000 is {value} at parameters {x}: a bug in the colour of a recipe")
+        return value
 
     def objective(u):
         return de(u) ** 2
