@@ -6,7 +6,8 @@ One ink (`filename` | `ink`, `coverage`) or up to four printed in order (`filena
 
 Components: 0 = coherent specular reflection of the layers (a delta lobe, Σ a_S R_spec,S(σ)),
 1 = everything smooth (diffuse layer lobes, light through the layers to the paper and back, bare
-paper). Front side only; spectral variants. In the polarized ones (`*_spectral_polarized`) the
+paper). Front side only (wrap in `twosided` for both faces). Every variant: RGB and mono ones
+get the tables reduced to their channels (`inkbsdf.colour_space`). In the polarized ones the
 delta lobe is the Mueller matrix of the mirror beams, built from the tables' s and p amplitudes,
 and the smooth lobe depolarises (`inkbsdf.polarized`); tables without r_s, r_p are refused there.
 
@@ -24,6 +25,7 @@ import numpy as np
 from solver.paper import PAPER_ALBEDO, albedo_problem
 from solver.printing import DEFAULT_COVERAGE_MODEL, check_coverage_model, possible_primaries, stack_order
 from solver.table import TableError
+from .colour_space import channel_coordinates, colour_space, reduce_lut
 from .coverage import check_coverage_texture, coverage_support
 from .errors import InkParameterError, plugin_factory
 from .inks import load_inks, numbered_inks, stack_lut
@@ -70,7 +72,13 @@ def check_paper(texture) -> None:
 
 def spectrum_values(texture, n_groups: int = 118) -> np.ndarray:
     """A texture that is not spatially varying, evaluated at 4·`n_groups` wavelengths evenly
-    spread over [MI_CIE_MIN, MI_CIE_MAX] nm (about 1 nm apart by default)."""
+    spread over [MI_CIE_MIN, MI_CIE_MAX] nm (about 1 nm apart by default); its channels in RGB
+    and mono variants."""
+    if not mi.is_spectral:              # RGB and mono variants: the texture's channels
+        si = dr.zeros(mi.SurfaceInteraction3f, 1) if dr.is_jit_v(mi.Float) else dr.zeros(mi.SurfaceInteraction3f)
+        value = texture.eval(si)
+        return np.array([float(np.ravel(np.asarray(value[j]))[0]) for j in range(dr.size_v(value))]
+                        if dr.size_v(value) > 0 else [float(np.ravel(np.asarray(value))[0])])
     groups = np.linspace(mi.MI_CIE_MIN, mi.MI_CIE_MAX, 4 * n_groups).reshape(n_groups, 4)
     if dr.is_jit_v(mi.Float):           # one evaluation over n_groups lanes
         si = dr.zeros(mi.SurfaceInteraction3f, n_groups)
@@ -107,13 +115,14 @@ def check_polarizable(lut) -> None:
 
 
 def model_for(lut):
-    """The Dr.Jit tables of `lut` for the active variant, shared by every BSDF using it."""
+    """The Dr.Jit tables of `lut` for the active variant (reduced to its colour channels in RGB
+    and mono variants: `inkbsdf.colour_space`), shared by every BSDF using it."""
     key = (mi.variant(), id(lut))
     hit = _models.get(key)
     if hit is None or hit[0] is not lut:
         while len(_models) >= _MAX_MODELS:
             _models.pop(next(iter(_models)))
-        hit = _models[key] = (lut, InkModel(lut))
+        hit = _models[key] = (lut, InkModel(reduce_lut(lut, colour_space())))
     return hit[1]
 
 
@@ -179,7 +188,7 @@ def _define_class():
         def _incident(self, si, active):
             cov = [_clamp01(t.eval_1(si, active)) for t in self.coverages]
             r = _clamp01(mi.UnpolarizedSpectrum(self.paper.eval(si, active)))
-            return self.model.incident(si.wi, si.wavelengths, cov, r)
+            return self.model.incident(si.wi, channel_coordinates(si), cov, r)
 
         def _spec_prob(self, ctx, inc):
             """Probability that sample() picks the delta lobe, given the enabled lobes."""
@@ -293,7 +302,7 @@ def _define_class():
 
 
 def bsdf_class():
-    """The ink BSDF class for the active variant (checked: spectral and unpolarized)."""
+    """The ink BSDF class for the active variant."""
     variant = check_variant(mi.variant())
     if variant not in _classes:
         _classes[variant] = _define_class()
@@ -301,10 +310,29 @@ def bsdf_class():
 
 
 def register() -> str:
-    """Register the `ink` BSDF for the active Mitsuba variant; return the variant.
-
-    Call again after `mitsuba.set_variant`: Mitsuba's plugin registry is per variant.
-    """
+    """Register the `ink` BSDF for the active Mitsuba variant; return the variant (VariantError
+    when none is set). `follow_variant` (run by `import inkbsdf`) makes this automatic."""
     cls = bsdf_class()
     mi.register_bsdf(PLUGIN_NAME, plugin_factory(cls))    # bad input: a short error (inkbsdf/errors.py)
     return mi.variant()
+
+
+def _on_variant_change(old, new) -> None:
+    """Mitsuba's variant callback: register `ink` for the new variant. It never raises (an
+    exception would break `mi.set_variant`): a failure is a warning, and `register()` repeats it."""
+    if new is None:
+        return
+    try:
+        register()
+    except Exception as exc:            # noqa: BLE001 - reported, not raised into set_variant
+        import warnings
+
+        warnings.warn(f"inkbsdf: 'ink' not registered for variant '{new}': {exc}", stacklevel=2)
+
+
+def follow_variant() -> None:
+    """Register `ink` for the active variant (if any) and for every variant set from now on
+    (Mitsuba's registry is per variant). Idempotent."""
+    mi.detail.add_variant_callback(_on_variant_change)
+    if mi.variant() is not None:
+        register()
