@@ -242,3 +242,28 @@ def test_parameter_errors(use_variant, tables, params, message):
             params[f"filename{n}"] = str(tables["B30"])
     with pytest.raises(Exception, match=message):
         mi.load_dict({"type": "ink", **params})
+
+
+def test_coverage_bitmap_must_be_raw_and_finite(use_variant, tables, tmp_path):
+    """A coverage bitmap read without raw (sRGB-decoded: a 50 % grey would print 0.21) and an
+    EXR with NaN texels are refused at load, the message naming the parameter and the fix; the
+    same bitmaps read raw and filled load."""
+    from PIL import Image
+
+    mi = use_variant("llvm_ad_spectral")
+    Image.fromarray(np.full((4, 4), 128, np.uint8)).save(tmp_path / "grey.png")
+    base = {"type": "ink", "filename": str(tables["R30"])}
+    for raw in (None, False):
+        tex = {"type": "bitmap", "filename": str(tmp_path / "grey.png")}
+        if raw is not None:
+            tex["raw"] = raw
+        with pytest.raises(Exception, match=r"'coverage'.*raw missing or false.*name=\"raw\" value=\"true\""):
+            mi.load_dict({**base, "coverage": tex})
+    mi.load_dict({**base, "coverage": {"type": "bitmap", "filename": str(tmp_path / "grey.png"), "raw": True}})
+    holes = np.full((3, 5), 0.4, np.float32)
+    holes[1, 2] = np.nan
+    nan_exr = _bitmap(mi, tmp_path, "holes", holes, "bilinear")
+    with pytest.raises(Exception, match=r"'coverage2'.*1 NaN or infinite texel"):
+        mi.load_dict({"type": "ink", "filename1": str(tables["R30"]), "filename2": str(tables["B30"]),
+                      "coverage1": 0.3, "coverage2": nan_exr})
+    mi.load_dict({**base, "coverage": _bitmap(mi, tmp_path, "filled", np.nan_to_num(holes), "bilinear")})
