@@ -16,7 +16,7 @@ reference (NumPy) implementation of the same formulas is `solver.printing`.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import drjit as dr
 import mitsuba as mi
@@ -48,6 +48,7 @@ class Incident:
     paper: object           # Murray–Davies: a_∅·r/π
     specular: object        # UnpolarizedSpectrum: Σ a_S R_spec,S(σ), weight of the delta lobe
     albedo_diffuse: object  # UnpolarizedSpectrum: ∫ (smooth part of f) cos θo dωo
+    printer: object = None  # the PrintModel that made it (its `diffuse`, `mirror` go with it)
 
 
 def demichel(coverages, subset):
@@ -106,8 +107,10 @@ class PrintModel:
             layers.append(Layer(model, a, loc_l, loc_s, coupling))
             terms.append((a, q, through))
         if self.clapper_yule:
-            return self._clapper_yule(cos_i, tuple(layers), bare, terms, r)
-        return self._murray_davies(cos_i, tuple(layers), bare, terms, r)
+            inc = self._clapper_yule(cos_i, tuple(layers), bare, terms, r)
+        else:
+            inc = self._murray_davies(cos_i, tuple(layers), bare, terms, r)
+        return replace(inc, printer=self)
 
     @staticmethod
     def _clapper_yule(cos_i, layers, bare, terms, r) -> Incident:
