@@ -42,13 +42,24 @@ def rss_mib():
         return int(fh.read().split()[1]) * resource.getpagesize() / 2**20
 
 k = cfg["n_inks"]
+rng = np.random.default_rng(7)
+
+def coverage(i):
+    if cfg["coverage"] == "number":
+        return 0.5
+    if cfg["coverage"] == "halftone":       # 0 or 1 per texel, half of them inked
+        data, filt = (rng.random((64, 64, 1)) < 0.5).astype(np.float32), "nearest"
+    else:                                   # contone: any value, filtered
+        data, filt = rng.random((64, 64, 1)).astype(np.float32), "bilinear"
+    return {"type": "bitmap", "data": mi.TensorXf(data), "raw": True, "filter_type": filt}
+
 if k == 1:
-    bsdf = {"type": "ink", "ink": cfg["inks"][0], "coverage": 0.5, "paper": 0.9}
+    bsdf = {"type": "ink", "ink": cfg["inks"][0], "coverage": coverage(0), "paper": 0.9}
 else:
     bsdf = {"type": "ink", "paper": 0.9}
     for i in range(k):
         bsdf[f"ink{i + 1}"] = cfg["inks"][i]
-        bsdf[f"coverage{i + 1}"] = 0.5
+        bsdf[f"coverage{i + 1}"] = coverage(i)
 T = mi.ScalarTransform4f
 scene = mi.load_dict({"type": "scene", "integrator": {"type": "path", "max_depth": 3},
     "sensor": {"type": "perspective", "fov": 40,
@@ -75,6 +86,7 @@ si = dr.zeros(mi.SurfaceInteraction3f, n)
 si.wi = mi.Vector3f(*[mi.Float(c) for c in v[0]])
 si.wavelengths = mi.Spectrum(*[mi.Float(c) for c in rng.uniform(360, 830, size=(4, n))])
 si.sh_frame = mi.Frame3f(mi.Vector3f(0, 0, 1))
+si.uv = mi.Point2f(mi.Float(rng.random(n)), mi.Float(rng.random(n)))
 wo = mi.Vector3f(*[mi.Float(c) for c in v[1]])
 u = [mi.Float(rng.random(n)) for _ in range(3)]
 b = scene.shapes()[0].bsdf()
@@ -91,8 +103,8 @@ print(json.dumps({"first_s": first, "render_s": statistics.median(renders), "lan
 '''
 
 
-def run(n_inks: int, repeats: int, variant: str, cache: str) -> dict:
-    cfg = {"n_inks": n_inks, "inks": INKS, "repeats": repeats, "variant": variant}
+def run(n_inks: int, repeats: int, variant: str, cache: str, coverage: str = "number") -> dict:
+    cfg = {"n_inks": n_inks, "inks": INKS, "repeats": repeats, "variant": variant, "coverage": coverage}
     # a fresh HOME: Dr.Jit's on-disk kernel cache (~/.drjit) empty, so the first render compiles
     env = dict(os.environ, INKBSDF_CACHE=cache, HOME=tempfile.mkdtemp(prefix="inkbsdf_bench_home_"))
     out = subprocess.run([sys.executable, "-c", WORKER, json.dumps(cfg)], capture_output=True, text=True,
@@ -107,22 +119,30 @@ def main(argv) -> None:
     parser.add_argument("--inks", type=int, nargs="+", default=[1, 4])
     parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--variant", default="llvm_ad_spectral")
+    parser.add_argument("--coverage", nargs="+", default=["number", "halftone", "contone"],
+                        choices=("number", "halftone", "contone"),
+                        help="coverages: 0.5 everywhere; 64×64 bitmaps of 0 or 1 (half inked, nearest); "
+                             "of uniform random values (bilinear)")
     args = parser.parse_args(argv)
     from benchmarks.yardstick import yardstick_s
 
     cache = tempfile.mkdtemp(prefix="inkbsdf_bench_inks_")
     run(max(args.inks), 1, args.variant, cache)          # build the stack tables (not timed)
     print(f"{args.variant}; yardstick {yardstick_s():.3f} s; 48×32 px, 4 spp, path; BSDF alone: 2^18 lanes")
-    print(f"{'inks':>4s} {'first render s':>15s} {'render s':>9s} {'BSDF alone s':>13s} {'+MiB at render':>15s}")
-    got = {}
-    for k in args.inks:
-        got[k] = r = run(k, args.repeats, args.variant, cache)
-        print(f"{k:4d} {r['first_s']:15.2f} {r['render_s']:9.3f} {r['lanes_s']:13.4f} {r['added_mib']:15.1f}", flush=True)
-    if 1 in got:
-        for k in (k for k in got if k != 1):
-            print(f"{k} inks / 1 ink: first render {got[k]['first_s'] / got[1]['first_s']:.2f}×, render "
-                  f"{got[k]['render_s'] / got[1]['render_s']:.2f}×, BSDF alone {got[k]['lanes_s'] / got[1]['lanes_s']:.2f}× "
-                  f"(target ≤ {TARGET_RATIO}×); +{got[k]['added_mib']:.0f} MiB (target ≤ {TARGET_MIB:.0f})")
+    print(f"{'coverage':>8s} {'inks':>4s} {'first render s':>15s} {'render s':>9s} {'BSDF alone s':>13s} "
+          f"{'+MiB at render':>15s}")
+    for mode in args.coverage:
+        got = {}
+        for k in args.inks:
+            got[k] = r = run(k, args.repeats, args.variant, cache, mode)
+            print(f"{mode:>8s} {k:4d} {r['first_s']:15.2f} {r['render_s']:9.3f} {r['lanes_s']:13.4f} "
+                  f"{r['added_mib']:15.1f}", flush=True)
+        if 1 in got:
+            for k in (k for k in got if k != 1):
+                print(f"{mode:>8s} {k} inks / 1 ink: first render {got[k]['first_s'] / got[1]['first_s']:.2f}×, render "
+                      f"{got[k]['render_s'] / got[1]['render_s']:.2f}×, BSDF alone "
+                      f"{got[k]['lanes_s'] / got[1]['lanes_s']:.2f}× (target ≤ {TARGET_RATIO}×); "
+                      f"+{got[k]['added_mib']:.0f} MiB (target ≤ {TARGET_MIB:.0f})")
 
 
 if __name__ == "__main__":

@@ -123,27 +123,31 @@ class Axis:
 
 
 class NodeTable:
-    """Multilinear interpolant of nodal values `values[n_0, …, n_{d−1}, C]` (C channels)."""
+    """Multilinear interpolant of nodal values `values[n_0, …, n_{d−1}, C]` (C channels), or
+    with `stacked`, of several such tables on one grid, `values[P, n_0, …, C]`, one buffer
+    (`lerp(…, block=p)` reads table p; p may differ per lane)."""
 
-    def __init__(self, values):
+    def __init__(self, values, stacked: bool = False):
         values = np.asarray(values, dtype=np.float64)
-        if values.ndim < 2:
+        if values.ndim < 2 + int(stacked):
             raise ValueError("NodeTable values need ≥ 1 grid axis and a channel axis")
-        self.shape = values.shape[:-1]
+        self.shape = values.shape[1 if stacked else 0:-1]
         self.channels = int(values.shape[-1])
         strides, s = [], self.channels
         for n in reversed(self.shape):
             strides.append(s)
             s *= n
         self._strides = tuple(reversed(strides))       # flat-index stride of each grid axis
+        self._block = s                                  # flat size of one table
         self._buf = Buffer(values)
 
-    def lerp(self, coords, channels=None):
-        """Values at located coordinates [(i, t) per axis]; returns one array per channel."""
+    def lerp(self, coords, channels=None, block=0):
+        """Values at located coordinates [(i, t) per axis] of table `block` (stacked tables);
+        returns one array per channel."""
         if len(coords) != len(self.shape):
             raise ValueError(f"{len(self.shape)} coordinates expected, got {len(coords)}")
         channels = range(self.channels) if channels is None else channels
-        base = 0
+        base = block * self._block if not (isinstance(block, int) and block == 0) else 0
         for (i, _), stride in zip(coords, self._strides):
             base = base + i * stride
         out = [0.0 for _ in channels]

@@ -29,9 +29,9 @@ from .colour_space import channel_coordinates, colour_space, reduce_lut
 from .coverage import coverage_support
 from .errors import InkParameterError, plugin_factory
 from .inks import load_inks, numbered_inks, stack_lut
-from .mixing import PrintModel
+from .mixing import LoopedPrint, PrintModel
 from .model import InkModel, safe_div
-from .premix import premixed_lut
+from .premix import common_grid, premixed_lut
 from .polarized import depolarizing, in_stokes_frames, mirror_matrix
 from .variant import check_variant
 
@@ -149,7 +149,7 @@ def _define_class():
             self.lut = self.inks[0].lut
             self.coverages = [props.get_texture(name, DEFAULT_COVERAGE) for name in self.coverage_names]
             self._stacks = {}
-            self.primaries = self.model = self.premixed = None
+            self.primaries = self.model = self.premixed = self.looped = None
             self._update_primaries()
             delta = mi.BSDFFlags.DeltaReflection | mi.BSDFFlags.FrontSide
             smooth = mi.BSDFFlags.DiffuseReflection | mi.BSDFFlags.FrontSide
@@ -179,7 +179,7 @@ def _define_class():
                 if mi.is_polarized:        # every ink, even one with no area yet, and the stacks
                     for lut in [ink.lut for ink in self.inks] + [lut for _, lut in luts]:
                         check_polarizable(lut)
-                self._luts, self.model, self.primaries = luts, None, primaries
+                self._luts, self.model, self.looped, self.primaries = luts, None, None, primaries
             self.premixed = None
             if self.coverage_model == "clapper-yule" and all(isinstance(c, float) for c in supports):
                 lut = premixed_lut(supports, self._luts)
@@ -187,19 +187,31 @@ def _define_class():
                     self.premixed = PrintModel([((0,), model_for(lut))], 1, self.coverage_model)
 
         def _lane_model(self):
-            """The PrintModel for this evaluation: the premixed table, unless there is none or a
-            coverage is being differentiated (its derivatives need the per-primary sums)."""
-            if self.premixed is not None and not self._coverage_tracked():
+            """The lane model for this evaluation: the premixed table (coverages are numbers,
+            Clapper–Yule), else in JIT variants the loop over each lane's non-zero primaries
+            (`LoopedPrint`), else one lookup per primary (`PrintModel`: scalar variants, a
+            single primary, or an input being differentiated, whose derivatives need the
+            unrolled sums). Returns (model, coverages to use or None for the textures')."""
+            tracked = self._inputs_tracked()
+            if self.premixed is not None and not tracked:
                 return self.premixed, [1.0]
+            if self.looped is None and len(self._luts) > 1 and dr.is_jit_v(mi.Float):
+                luts = common_grid([lut for _, lut in self._luts])
+                self.looped = False if luts is None else LoopedPrint(
+                    self._luts, len(self.inks), self.coverage_model,
+                    [reduce_lut(lut, colour_space()) for lut in luts])
+            if self.looped and not tracked:
+                return self.looped, None
             if self.model is None:
                 self.model = PrintModel([(s, model_for(lut)) for s, lut in self._luts], len(self.inks),
                                         self.coverage_model)
             return self.model, None
 
-        def _coverage_tracked(self) -> bool:
+        def _inputs_tracked(self) -> bool:
+            """True while a coverage or the paper albedo has derivatives enabled."""
             if not dr.is_diff_v(mi.Float):
                 return False
-            for texture in self.coverages:
+            for texture in self.coverages + [self.paper]:
                 params = mi.traverse(texture)
                 if any(dr.grad_enabled(params[k]) for k in params.keys()):
                     return True
