@@ -27,6 +27,16 @@ def is_jit() -> bool:
     return dr.is_jit_v(mi.Float)
 
 
+def opaque(value, kind=None):
+    """A grid's number as an opaque JIT variable (a kernel input, not a literal compiled into
+    the kernel), so that tables on different grids share kernels; the number itself in
+    scalar variants."""
+    if not is_jit():
+        return value
+    kind = kind or (mi.UInt32 if isinstance(value, int) else mi.Float)
+    return dr.opaque(kind, value)
+
+
 class Buffer:
     """A read-only float buffer that `gather` reads with per-lane indices in any variant."""
 
@@ -87,15 +97,16 @@ class Axis:
             raise ValueError("an interpolation axis needs a strictly increasing grid of ≥ 2 nodes")
         self.size = int(nodes.size)
         self.key = nodes.tobytes()          # equal grids locate equally (shared by the models)
-        self.lo, self.hi = float(nodes[0]), float(nodes[-1])
+        self.lo, self.hi = opaque(float(nodes[0])), opaque(float(nodes[-1]))
+        self._last, self._last_f = opaque(self.size - 2), opaque(float(self.size - 2))
         step = uniform_step(nodes)
         self.uniform = step is not None
         if self.uniform:
-            self._inv_step = 1.0 / step
+            self._inv_step = opaque(1.0 / step)
         else:
             table = cell_table(nodes)
-            self._x0, self._inv_bin = table.x0, table.inv_width
-            self._n_bins = int(table.cells.size)
+            self._x0, self._inv_bin = opaque(table.x0), opaque(table.inv_width)
+            self._n_bins = opaque(int(table.cells.size))
             self._cells = Buffer(table.cells.astype(np.float64))
             self._nodes = Buffer(nodes)
             self._inv_len = Buffer(np.append(1.0 / np.diff(nodes), 1.0))
@@ -107,10 +118,10 @@ class Axis:
 
     def locate(self, x):
         x = self._clamp(x)
-        last = self.size - 2
+        last = self._last
         if self.uniform:
             u = (x - self.lo) * self._inv_step
-            i = mi.UInt32(dr.select(u < last, dr.floor(u), last))
+            i = mi.UInt32(dr.select(u < self._last_f, dr.floor(u), self._last_f))
             t = u - mi.Float(i)
         else:
             b = mi.UInt32(dr.floor((x - self._x0) * self._inv_bin))
@@ -137,8 +148,8 @@ class NodeTable:
         for n in reversed(self.shape):
             strides.append(s)
             s *= n
-        self._strides = tuple(reversed(strides))       # flat-index stride of each grid axis
-        self._block = s                                  # flat size of one table
+        self._strides = tuple(opaque(int(v)) for v in reversed(strides))   # flat-index stride per axis
+        self._block = opaque(int(s))                                      # flat size of one table
         self._buf = Buffer(values)
 
     def lerp(self, coords, channels=None, block=0):
@@ -154,8 +165,9 @@ class NodeTable:
         for corner in product((0, 1), repeat=len(coords)):
             offset, weight = 0, 1.0
             for bit, (_, t), stride in zip(corner, coords, self._strides):
-                offset += bit * stride
+                if bit:
+                    offset = offset + stride
                 weight = weight * (t if bit else 1.0 - t)
             for k, c in enumerate(channels):
-                out[k] = out[k] + weight * self._buf.gather(base + (offset + c))
+                out[k] = out[k] + weight * self._buf.gather(base + offset + c)
         return out
