@@ -26,7 +26,7 @@ from solver.paper import PAPER_ALBEDO, albedo_problem
 from solver.printing import DEFAULT_COVERAGE_MODEL, check_coverage_model, possible_primaries, stack_order
 from solver.table import TableError
 from .colour_space import channel_coordinates, colour_space, reduce_lut
-from .coverage import coverage_support
+from .coverage import check_coverage_texture, coverage_support
 from .errors import InkParameterError, plugin_factory
 from .inks import load_inks, numbered_inks, stack_lut
 from .mixing import LoopedPrint, PrintModel
@@ -148,6 +148,8 @@ def _define_class():
             self.inks = load_inks(props)
             self.lut = self.inks[0].lut
             self.coverages = [props.get_texture(name, DEFAULT_COVERAGE) for name in self.coverage_names]
+            for name, texture in zip(self.coverage_names, self.coverages):
+                check_coverage_texture(texture, name)
             self._stacks = {}
             self.primaries = self.model = self.premixed = self.looped = None
             self._update_primaries()

@@ -139,6 +139,11 @@ def _bad_cases(tmp, tables, unwritable):
         "exposure inf": (base + ["--exposure", "inf", "--png", str(tmp / "x.png")], "--exposure"),
         "output not exr": ([scene, "--tables", str(tables), "-o", str(tmp / "x.png")], ".exr"),
         "too many samples": (base + ["--width", "2", "--height", "2", "--spp", "1100000000"], "2^32"),
+        # the size is checked before any table is read or built (a folder without tables here)
+        "image too large": ([scene, "--tables", str(tmp / "no tables"), "-o", exr, "--width", "100000",
+                             "--height", "100000"], "lower --width/--height"),
+        "too many samples at the scene's spp": ([scene, "--tables", str(tmp / "no tables"), "-o", exr,
+                                                 "--width", "9000", "--height", "9000"], "2^32"),
         "png not png": (base + ["--png", str(tmp / "x.jpg")], "--png"),
         "output in a file": ([scene, "-o", str(tables / "R30.npz" / "x.exr")], "not a folder"),
         "output read-only": ([scene, "-o", str(unwritable / "x.exr")], "cannot write in"),

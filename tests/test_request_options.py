@@ -23,7 +23,7 @@ CASES = [
     dict(ink="Y7.5+B7.5", particles="sphere:300", accuracy="preview", realizations=3, seed=7, local_field=False),
     dict(ink="R15", particles="cylinder:100:vertical:tilt=15", polarisation="te", target_se=0.01,
          max_realizations=9, grid=(16, 16, 8), cell_nm=1500.0, solver_tol=1e-4, tolerance=0.02, tier="full",
-         azimuths=3),
+         azimuths=3, wavelength_stride=1),
     dict(ink="Y15/B15", particles="sphere:100/molecular", accuracy="fine"),
 ]
 
@@ -74,7 +74,8 @@ def test_cli_options_and_scene_parameters_derive_from_the_list():
     assert {o.cli for o in OPTIONS} <= flags and "--no-local-field" in flags
     argv = ["build", "--ink", "R15", "--particles", "cylinder:100:vertical:tilt=15", "--polarisation", "te",
             "--target-se", "0.01", "--max-realizations", "9", "--grid", "16", "16", "8", "--cell", "1500",
-            "--solver-tol", "1e-4", "--tolerance", "0.02", "--tier", "full", "--azimuths", "3", "-o", "x.npz"]
+            "--solver-tol", "1e-4", "--tolerance", "0.02", "--tier", "full", "--azimuths", "3",
+            "--wavelength-stride", "1", "-o", "x.npz"]
     assert request_from_args(parser.parse_args(argv)) == make(CASES[4])
     argv = ["build", "--ink", "Y15/B15", "--thickness", "800,600", "--wavelengths", "400:700:150", "--angles", "5",
             "--dphi-count", "7", "-o", "x.npz"]
@@ -101,6 +102,7 @@ def test_scene_parameters_make_the_same_request():
     props["tolerance"] = 0.02
     props["tier"] = "full"
     props["azimuths"] = 3
+    props["wavelength_stride"] = 1
     req = scene_request(props)
     want = make(dict(CASES[4], grid=WaveSettings().grid, cell_nm=WaveSettings().cell_nm))
     assert req == want

@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .. import host
-from . import preflight, tier_choice
+from . import preflight, spectral, tier_choice
 from .cache import TableCache
 from .executor import check_scheduler, default_workers, local_pool, run_units, usable_workers
 from .meta import table_meta
@@ -171,15 +171,23 @@ def _build_wave(request: TableRequest, opts: BuildOptions) -> InkTable:
     if voxels is None:
         voxels = _geometry(request, opts, timer)
     method = "born" if tier == "born" else "full"
-    nl, nr = len(request.grids.wavelengths_nm), request.wave.realizations
+    solved, nr = request.solved_wavelength_indices, request.wave.realizations
+    nl = len(solved)
+    # the solved wavelengths' own request (grids only: units index the full request's wavelengths)
+    coarse_request = request.with_grids(wavelengths_nm=tuple(request.grids.wavelengths_nm[i] for i in solved))
     while True:
         voxels = voxels + _geometry(request, opts, timer, range(len(voxels), nr))
-        flat = _solves(request, opts, timer, method, voxels, [(r, li) for r in range(nr) for li in range(nl)])
-        units = [[flat[r * nl + li] for li in range(nl)] for r in range(nr)]
+        flat = _solves(request, opts, timer, method, voxels, [(r, li) for r in range(nr) for li in solved])
+        units = [[flat[r * nl + k] for k in range(nl)] for r in range(nr)]
         t0 = time.perf_counter()
+        extra = {"tier_probe": report, "realizations_used": nr}
+        if nl < len(request.grids.wavelengths_nm):
+            extra["solved_wavelengths_nm"] = list(coarse_request.grids.wavelengths_nm)
         meta = table_meta(request, tier, reason, seeds=[realization_seed(request, r) for r in range(nr)],
-                          timings_s=timer.stages, extra={"tier_probe": report, "realizations_used": nr})
-        table = reduce_units(request, units, meta)
+                          timings_s=timer.stages, extra=extra)
+        table = reduce_units(coarse_request, units, meta)
+        if nl < len(request.grids.wavelengths_nm):
+            table = spectral.refine(table, spectral.guide_film(request), solved)
         timer.add("reduce", time.perf_counter() - t0)
         more = _more_realizations(request, table, nr)
         if more == nr:
@@ -214,9 +222,12 @@ def get_or_build(request: TableRequest, opts: BuildOptions | None = None) -> tup
 
     Returns (table, path, built) — built is False on a cache hit (nothing computed)."""
     opts = opts or BuildOptions()
-    opts.cache.check()
-    table = opts.cache.load(request)
+    if opts.cache.root.is_dir():
+        table = opts.cache.load(request)        # a read-only cache serves what it holds
+    else:
+        table = None
     if table is None:
+        opts.cache.check()                      # building: the cache must be writable
         preflight.check(request, opts.workers, opts.cache.root, force=opts.force)
         if opts.scheduler and not request.molecular:
             check_scheduler(opts.scheduler)

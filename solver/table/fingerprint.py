@@ -21,7 +21,7 @@ FILM_MODULES = ("solver.materials", "solver.inks", "solver.thinfilm", "solver.ta
                 "solver.table.integrals")
 WAVE_MODULES = FILM_MODULES + ("solver.geometry", "solver.wave", "solver.table.wave_tier",
                                "solver.table.wave_ensemble", "solver.table.orders_to_brdf", "solver.table.tier_choice",
-                               "solver.table.retry")
+                               "solver.table.retry", "solver.table.spectral")
 #: modules of a package that draw pictures, print reports or hold the tests' independent
 #: reference solutions (solver/wave/oracles.py, validation.py): no table imports them, so they
 #: never change a table's number

@@ -48,6 +48,7 @@ OPTIONS = (
     RequestOption("grid", "--grid", wave=True),
     RequestOption("solver_tol", "--solver-tol", "solver_tol", float, wave=True),
     RequestOption("seed", "--seed", "seed", int, wave=True),
+    RequestOption("wavelength_stride", "--wavelength-stride", "wavelength_stride", int, wave=True),
 )
 BY_NAME = {o.name: o for o in OPTIONS}
 #: the CLI name of each option, for messages (validation says which option is wrong)

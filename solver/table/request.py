@@ -72,16 +72,19 @@ class WaveSettings:
     tier: str = "auto"
     target_se: float | None = None             # add realizations until max SE(Rbar, Tbar) ≤ this
     max_realizations: int = 64                 # … but never more than this
+    wavelength_stride: int = 2                 # solve every k-th wavelength, film-guided between (spectral.py)
 
 
 _DEFAULT_WAVE = WaveSettings()
 
 #: accuracy presets of particle inks (wave settings and wavelength step); docs/tables.md has
 #: each preset's measured colour error against `fine` and its cost
+#: (wavelength_stride: the wave ensemble is solved on every k-th wavelength and film-guided in
+#: between, spectral.py; `fine`, the reference, solves every wavelength)
 ACCURACY = {
-    "preview": (WaveSettings(grid=(40, 40, 20), realizations=2), 40.0),
+    "preview": (WaveSettings(grid=(40, 40, 20), realizations=2, wavelength_stride=2), PARTICLE_WAVELENGTH_STEP_NM),
     "default": (WaveSettings(), PARTICLE_WAVELENGTH_STEP_NM),
-    "fine": (WaveSettings(grid=(80, 80, 40), realizations=6), 10.0),
+    "fine": (WaveSettings(grid=(80, 80, 40), realizations=6, wavelength_stride=1), 10.0),
 }
 
 
@@ -158,6 +161,15 @@ class TableRequest:
     @property
     def molecular(self) -> bool:
         return all(layer.molecular for layer in self.layers)
+
+    @property
+    def solved_wavelength_indices(self) -> tuple[int, ...]:
+        """The wavelengths (indices into grids.wavelengths_nm) the wave tiers solve: every
+        --wavelength-stride-th and the last; the rest are film-guided (spectral.py)."""
+        from .spectral import solved_indices
+
+        stride = 1 if self.wave is None else self.wave.wavelength_stride
+        return solved_indices(len(self.grids.wavelengths_nm), stride)
 
     @property
     def has_rough_top(self) -> bool:
@@ -286,7 +298,7 @@ class TableRequest:
         if self.molecular:
             return what
         w = self.wave
-        others = ("seed", "tier", "tolerance", "solver_tol", "target_se") + (
+        others = ("seed", "tier", "tolerance", "solver_tol", "target_se", "wavelength_stride") + (
             ("max_realizations",) if w.target_se is not None else ())   # the cap means nothing alone
         return (f"{what}, {w.realizations} realizations × {w.azimuths} azimuths, grid "
                 f"{'×'.join(map(str, w.grid))} over {w.cell_nm:g} nm"

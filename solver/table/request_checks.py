@@ -101,7 +101,7 @@ def validate(req: TableRequest) -> None:
             or any(n < m for n, m in zip(w.grid, MIN_GRID)):
         raise RequestError(f"{OPTION['grid']} {' '.join(map(str, w.grid))}: need at least "
                            f"{' '.join(map(str, MIN_GRID))} voxels (NX NY NZ) for a meaningful table")
-    for name in ("realizations", "azimuths"):
+    for name in ("realizations", "azimuths", "wavelength_stride"):
         value = getattr(w, name)
         if not isinstance(value, (int, np.integer)) or value < 1:
             raise RequestError(f"{OPTION[name]} must be an integer ≥ 1, got {value!r}")

@@ -66,10 +66,21 @@ def build_stack_table(layers: Sequence[tuple[Ink, float]], wavelengths_nm, sigma
     per_layer = materials if isinstance(materials, (list, tuple)) else [materials] * len(layers)
     if len(per_layer) != len(layers):
         raise ValueError(f"{len(per_layer)} material data for {len(layers)} layers")
-    eps = [molecular_eps(ink, wl, data)[:, None] for (ink, _), data in zip(layers, per_layer)]
-    thickness = [d for _, d in layers]
+    eps = [molecular_eps(ink, wl, data) for (ink, _), data in zip(layers, per_layer)]
+    return film_table(eps, [d for _, d in layers], wl, sigma, polarisation,
+                      _meta(layers, wl, sigma, polarisation,
+                            any(d is not None and d.local_field is not None for d in per_layer)))
 
-    symmetric = len(layers) == 1                     # air on both sides of one layer
+
+def film_table(eps_layers: Sequence[np.ndarray], thickness_nm: Sequence[float], wavelengths_nm, sigma_rad,
+               polarisation: str, meta: dict) -> InkTable:
+    """Exact table of homogeneous layers of the given permittivities ([nλ] each, top first)
+    between air above and the air gap below."""
+    wl = np.asarray(wavelengths_nm, dtype=float)
+    sigma = np.asarray(sigma_rad, dtype=float)
+    eps = [np.asarray(e)[:, None] for e in eps_layers]
+    thickness = [float(d) for d in thickness_nm]
+    symmetric = len(eps) == 1                     # air on both sides of one layer
 
     def solve(pol: str, from_below: bool) -> SlabResponse:
         if symmetric:                                # Airy: the numbers of schema v1 tables
@@ -94,9 +105,7 @@ def build_stack_table(layers: Sequence[tuple[Ink, float]], wavelengths_nm, sigma
     return InkTable(wavelengths=wl, sigma=sigma, theta=np.array([0.0, np.pi / 2]),
                     dphi=np.array([0.0, np.pi]), R=np.zeros((wl.size, sigma.size, 2, 2)),
                     R_spec=columns["R_spec"], T_coh=columns["T_coh"], Rbar=columns["R_spec"].copy(),
-                    Tbar=columns["T_coh"].copy(), Rbar_below=columns["Rbar_below"],
-                    meta=_meta(layers, wl, sigma, polarisation,
-                               any(d is not None and d.local_field is not None for d in per_layer)), **split)
+                    Tbar=columns["T_coh"].copy(), Rbar_below=columns["Rbar_below"], meta=meta, **split)
 
 
 def _meta(layers: list[tuple[Ink, float]], wl: np.ndarray, sigma: np.ndarray, polarisation: str,

@@ -24,12 +24,14 @@ CANDIDATES = ("effective-medium", "born", "full")
 
 
 def probe_wavelength_indices(request: TableRequest) -> list[int]:
-    """Most absorbing, least absorbing and a middle wavelength of the ink (by mean Im ε)."""
-    wl = np.asarray(request.grids.wavelengths_nm)
+    """Most absorbing, least absorbing and a middle wavelength of the ink (by mean Im ε), among
+    the wavelengths the table solves (so that the probe's full solves are table units)."""
+    solved = np.asarray(request.solved_wavelength_indices)
+    wl = np.asarray(request.grids.wavelengths_nm)[solved]
     loss = sum(molecular_eps(layer.ink, wl, request.layer_materials(i)).imag * layer.thickness_nm
                for i, layer in enumerate(request.layers))
     order = np.argsort(loss, kind="stable")
-    return sorted({int(order[-1]), int(order[0]), int(order[len(order) // 2])})
+    return sorted({int(solved[order[-1]]), int(solved[order[0]]), int(solved[order[len(order) // 2]])})
 
 
 def _summaries(units: list[dict]) -> dict:

@@ -79,6 +79,9 @@ def _cli_spec() -> dict:
                       help="voxels of the cell (default {} {} {})".format(*w.grid)), tuple),
         "solver_tol": (dict(type=float, help=f"wave solver relative residual (default {w.solver_tol:g})"), None),
         "seed": (dict(type=int, help=f"random seed of the realizations (default {w.seed})"), None),
+        "wavelength_stride": (dict(type=int, metavar="K", help=f"solve the wave ensemble on every K-th wavelength "
+                                   "(and the last) and interpolate its difference to the exact film of the ink "
+                                   f"in between (docs/tables.md, 'Wavelength stride'; default {w.wavelength_stride}, fine 1)"), None),
     }
 
 
@@ -131,7 +134,7 @@ def add_parser(sub) -> None:
     add_request_arguments(p)
     add_run_arguments(p)
     p.add_argument("-o", "--output", required=True, help="table file to write (.npz)")
-    p.set_defaults(func=run)
+    p.set_defaults(func=run, resumes=True)            # an interrupt keeps finished work units
 
 
 def given_options(args) -> dict:
