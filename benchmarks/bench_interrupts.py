@@ -24,10 +24,12 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from benchmarks.yardstick import yardstick_s
+
 CLI = [sys.executable, "-m", "solver.apps.cli"]
-#: a build long enough (~10 s on 2 cores, idle) that a moment drawn in [EARLIEST_S, latest_s] falls
+#: a build long enough (~6 s on 2 cores, idle) that a moment drawn in [EARLIEST_S, latest_s] falls
 #: inside it: loading, spawning the workers, geometry, solves, storing parts
-BUILD = ["build", "--ink", "Y7.5+B7.5", "--particles", "sphere:300", "--wavelengths", "400:700:10",
+BUILD = ["build", "--ink", "Y7.5+B7.5", "--particles", "sphere:300", "--wavelengths", "400:700:20",
          "--angles", "4", "--grid", "24", "24", "12", "--realizations", "1", "--azimuths", "2",
          "--tier", "full", "--workers", "2", "--no-progress"]
 #: the earliest moment drawn (s after the process starts): before it the interpreter itself is
@@ -121,8 +123,8 @@ class cpu_load:
         self.n, self.procs = n, []
 
     def __enter__(self):
-        self.procs = [subprocess.Popen([sys.executable, "-c", "while True: pass"], start_new_session=True)
-                      for _ in range(self.n)]
+        busy = "import os\nparent = os.getppid()\nwhile os.getppid() == parent:\n    pass"   # ends with us
+        self.procs = [subprocess.Popen([sys.executable, "-c", busy], start_new_session=True) for _ in range(self.n)]
         return self
 
     def __exit__(self, *exc):
@@ -144,22 +146,6 @@ def stress(count: int, seed: int, latest_s: float, load: int, folder: Path, repo
             if report:
                 report(k, outcome)
     return outcomes
-
-
-def yardstick_s() -> float:
-    """Seconds for 200 complex64 3-D FFTs of (2, 64, 64, 64) on 2 threads, median of 3: divide a
-    time by it to compare machines, or one machine busy and quiet."""
-    import numpy as np
-    import scipy.fft as sfft
-
-    x = (np.random.default_rng(0).standard_normal((2, 64, 64, 64)) + 0j).astype(np.complex64)
-    runs = []
-    for _ in range(3):
-        t0 = time.perf_counter()
-        for _ in range(200):
-            sfft.fftn(x, axes=(1, 2, 3), workers=2)
-        runs.append(time.perf_counter() - t0)
-    return statistics.median(runs)
 
 
 def main(argv: list[str]) -> int:

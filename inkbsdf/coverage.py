@@ -1,4 +1,11 @@
-"""Where a coverage texture can be > 0, read once at scene load (`solver.printing.overlap`).
+"""Coverage textures at scene load: checked (`check_coverage_texture`), and where each can be
+> 0 (`coverage_support`, `solver.printing.overlap`).
+
+A coverage is linear data (the inked fraction of the area), so a bitmap must be read as stored:
+`raw` true. Without it Mitsuba decodes 8-bit files through the sRGB curve (a 50 % grey becomes
+0.21 coverage) and, in spectral variants, upsamples colours as reflectance spectra; such a bitmap
+is refused with the fix. NaN or infinite texels (an EXR's holes) are refused too: they would
+render as NaN or as an arbitrary colour.
 
     uniform value        → the number (clamped to [0, 1])
     bitmap               → a TexelMask of its texels > 0; with bilinear filtering grown by one
@@ -9,6 +16,8 @@
 
 from __future__ import annotations
 
+import re
+
 import drjit as dr
 import mitsuba as mi
 import numpy as np
@@ -16,6 +25,32 @@ import numpy as np
 from solver.printing import TexelMask
 
 _PROBE_SHIFT = 0.25         # texel widths off a texel centre where the filter is probed
+_RAW = re.compile(r"\braw = (\d)")
+_NAME = re.compile(r'\bname = "([^"]*)"')
+
+
+def check_coverage_texture(texture, parameter: str) -> None:
+    """InkParameterError (naming `parameter` and the fix) for a bitmap coverage read without
+    `raw` or with non-finite texels (module docstring)."""
+    from .errors import InkParameterError
+
+    text = str(texture)
+    if not text.startswith("BitmapTexture"):
+        return
+    m = _NAME.search(text)
+    name = f"'{m.group(1)}'" if m else "bitmap"
+    raw = _RAW.search(text)
+    if raw is not None and raw.group(1) != "1":
+        raise InkParameterError(
+            f"ink BSDF: '{parameter}': the bitmap {name} is read as sRGB colour (raw missing or false), but a "
+            f"coverage is linear data: add <boolean name=\"raw\" value=\"true\"/> to the bitmap (raw=True in a dict)")
+    params = mi.traverse(texture)
+    if "data" in params:
+        data = np.asarray(params["data"], dtype=np.float64)
+        bad = int(np.count_nonzero(~np.isfinite(data)))
+        if bad:
+            raise InkParameterError(f"ink BSDF: '{parameter}': the bitmap {name} has {bad} NaN or infinite "
+                                    f"texel values of {data.size}: fill them (0 = no ink) and save it again")
 
 
 def _grow(mask: np.ndarray) -> np.ndarray:

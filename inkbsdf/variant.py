@@ -1,5 +1,7 @@
-"""Which Mitsuba variant the plugin runs in: spectral, unpolarized or polarized
-(`*_spectral_polarized`: the mirror lobe is a Mueller matrix, inkbsdf/polarized.py).
+"""Which Mitsuba variant the plugin runs in: any of them. Spectral ones use the tables as they
+are; RGB and mono ones get them reduced once at load to their colour channels
+(`inkbsdf.colour_space`); polarized ones (`*_polarized`) make the mirror lobe a Mueller matrix
+(`inkbsdf.polarized`).
 
 `check_variant` is the one place that decides whether the ink BSDF supports a variant; the
 others (`usable_variants`, `select_variant`, `bsdf_class` in plugin.py) ask it.
@@ -26,23 +28,13 @@ def default_variant() -> str:
     return DEFAULT_CPU_VARIANT
 
 
-def _counterpart(variant: str) -> str:
-    """The spectral variant on the same backend, polarized if `variant` is:
-    llvm_ad_rgb → llvm_ad_spectral, llvm_ad_mono_polarized → llvm_ad_spectral_polarized."""
-    backend = variant.split("_ad_")[0] + "_ad" if "_ad_" in variant else variant.split("_")[0]
-    return f"{backend}_spectral" + ("_polarized" if variant.endswith("_polarized") else "")
-
-
 def check_variant(variant: str | None) -> str:
-    """Return the variant if the ink BSDF supports it, else raise VariantError saying why and
-    which variant to use instead."""
+    """Return the variant if the ink BSDF supports it (every Mitsuba variant), else raise
+    VariantError saying why and what to do."""
     if variant is None:
         raise VariantError("no Mitsuba variant is set: call mitsuba.set_variant('llvm_ad_spectral') "
-                           "(or 'cuda_ad_spectral', 'scalar_spectral') before inkbsdf.register()")
-    if "spectral" not in variant:
-        raise VariantError(f"the ink BSDF needs a spectral Mitsuba variant, the active one is "
-                           f"'{variant}': an RGB or mono variant would give wrong colours "
-                           f"(use '{_counterpart(variant)}')")
+                           "(or 'cuda_ad_spectral', 'scalar_spectral', an RGB or mono variant) before "
+                           "loading a scene with the ink BSDF")
     return variant
 
 
@@ -71,9 +63,9 @@ def select_variant(name: str | None = None) -> str:
     """Set the named variant (None: `default_variant()`) and return it; VariantError naming the
     problem and the usable variants when the ink BSDF cannot run in it here."""
     variant = name or default_variant()
-    usable = ", ".join(usable_variants()) or "none (this Mitsuba build has no spectral variant)"
+    usable = ", ".join(usable_variants()) or "none"
     if variant not in mi.variants():
-        raise VariantError(f"'{variant}' is not a variant of this Mitsuba build; the ink BSDF runs in: {usable}")
+        raise VariantError(f"'{variant}' is not a variant of this Mitsuba build; usable here: {usable}")
     check_variant(variant)
     if not _backend_present(variant):
         device = "a CUDA GPU" if variant.startswith("cuda_") else "Mitsuba's LLVM backend (libLLVM ≥ 16)"

@@ -284,3 +284,29 @@ def test_max_realizations_alone_is_one_warning_and_the_same_table(tmp_path, caps
     # what tells two requests apart is in their one-line description (the build log, show's refusal)
     assert "--seed 3" in other.describe() and "--tolerance 0.02" in other.describe()
     assert "--seed" not in capped.describe() and "16×16×8" in capped.describe()
+
+
+@pytest.mark.parametrize("command, argv, option", [
+    ("ink-tables", ["build", "--ink", "R15", "--ink", "Y15", "-o", "t.npz"], "--ink"),
+    ("ink-tables", ["build", "--ink", "R15", "--grid", "8", "8", "8", "--grid", "16", "16", "16", "-o", "t.npz"],
+     "--grid"),
+    ("ink-tables", ["build", "--ink", "R15", "-o", "a.npz", "--output", "b.npz"], "-o/--output"),
+    ("ink-tables", ["show", "t.npz", "--paper", "0.8", "--paper", "0.9"], "--paper"),
+    ("ink-tables", ["geometry", "--ink", "R15", "--particles", "sphere:100", "--particles", "sphere:200"],
+     "--particles"),
+    ("ink-tables", ["paper", "fig7", "--rows", "R15", "--rows", "Y15", "-o", "f.png"], "--rows"),
+    ("render", ["scene.xml", "-o", "x.exr", "--spp", "4", "--spp", "8"], "--spp"),
+    ("print", ["photo.png", "--inks", "R30", "--inks", "Y30", "-o", "p.xml"], "--inks"),
+])
+def test_a_single_value_option_given_twice_is_refused(tmp_path, monkeypatch, capsys, command, argv, option):
+    """`--ink R15 --ink Y15` kept the last silently: every command refuses it, one line naming
+    the option and both values, exit 2, before any work."""
+    import inkbsdf.apps.print as print_app
+    import inkbsdf.apps.render as render_app
+
+    monkeypatch.chdir(tmp_path)
+    entry = {"ink-tables": main, "render": render_app.main, "print": print_app.main}[command]
+    code, out, err = run_main(entry, argv, capsys)
+    lines = err.strip().splitlines()
+    assert code == 2 and len(lines) == 1 and "given twice" in lines[0] and option in lines[0], err
+    assert not list(tmp_path.iterdir())                      # nothing written

@@ -82,3 +82,76 @@ def test_realization_draws_the_cell_a_table_solves(capsys):
             rc = exc.code
         err = capsys.readouterr().err
         assert rc == 2 and words in err, (argv, err)
+
+
+# ------------------------------------------------------------------ preflight (as `build`'s)
+def _one_error_line(capsys) -> str:
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and err.startswith("ink-tables geometry: error:"), err
+    return err
+
+
+def test_a_cell_that_cannot_fit_is_refused_before_any_work(capsys):
+    """Grains far too many (sphere:1 at R15: ~10⁹) or a grid far too large: one line naming
+    the estimate and geometry's own options, in well under a second (no generation)."""
+    import time
+
+    for args, need in ((["--particles", "sphere:1"], "1,145,915,590 grains"),
+                       (["--particles", "sphere:100", "--grid", "4096", "4096", "4096"], "4096×4096×4096")):
+        t0 = time.perf_counter()
+        assert main(["geometry", "--ink", "R15"] + args) == 2
+        assert time.perf_counter() - t0 < 2.0
+        err = _one_error_line(capsys)
+        assert "refused before starting" in err and need in err and "of memory" in err
+        assert "--grid" in err and "--force" in err
+        assert "--wavelengths" not in err and "--workers" not in err       # options geometry lacks
+
+
+def test_the_memory_limit_is_this_machines(capsys, monkeypatch):
+    """The refusal compares the estimate with the machine's available memory (solver.host): the
+    same small cell is refused on a machine with 10 MB, generated there with --force, and
+    generated without on a machine with the tests' memory."""
+    from solver import host
+    from solver.geometry import LayerSpec, geometry_cost, parse_particles
+    from solver.inks import parse_ink
+
+    args = ["geometry", "--ink", "R15", "--particles", "sphere:150"] + SMALL
+    need = geometry_cost(LayerSpec(parse_ink("R15"), parse_particles("sphere:150"), thickness_nm=500.0,
+                                   cell_nm=(800.0, 800.0)), (32, 32, 20)).peak_bytes
+    assert main(args) == 0 and "volume fraction" in capsys.readouterr().out
+    monkeypatch.setattr(host, "available_memory_bytes", lambda: 0.5 * need)
+    assert main(args) == 2 and "refused before starting" in _one_error_line(capsys)
+    assert main(args + ["--force"]) == 0 and "volume fraction" in capsys.readouterr().out
+
+
+def test_grains_the_grid_does_not_resolve_and_a_long_cell_are_warned(capsys, caplog, monkeypatch):
+    import logging
+
+    from solver.table import preflight
+
+    monkeypatch.setattr(preflight, "LONG_BUILD_S", 0.0)
+    with caplog.at_level(logging.INFO, logger="inkbsdf.tables"):
+        assert main(["geometry", "--ink", "R15", "--particles", "sphere:12", "--cell", "400", "--thickness",
+                     "200", "--grid", "8", "8", "4"]) == 0
+    assert "much smaller than the 50-nm voxels" in caplog.text and "--grid" in caplog.text
+    assert "will take long" in caplog.text and "grains" in caplog.text
+
+
+def test_out_of_memory_names_geometrys_own_options(capsys, monkeypatch):
+    """Memory running out anyway (a forced cell) is one line whose advice names options that
+    geometry has."""
+    import solver.geometry
+
+    def exhausted(*_a, **_k):
+        raise MemoryError("Unable to allocate 512. GiB")
+
+    monkeypatch.setattr(solver.geometry, "generate", exhausted)
+    assert main(["geometry", "--ink", "R15", "--particles", "sphere:100", "--force"] + SMALL) == 1
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and "ran out of memory" in err and "--grid" in err
+    assert "--wavelengths" not in err and "--workers" not in err
+
+
+def test_a_grid_without_voxels_is_refused(capsys):
+    assert main(["geometry", "--ink", "R15", "--particles", "sphere:100", "--grid", "0", "4", "4"]) == 2
+    assert "--grid 0 4 4" in _one_error_line(capsys)

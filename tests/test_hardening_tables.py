@@ -54,6 +54,49 @@ def test_cached_tables_are_readable_by_the_team(tmp_path):
         assert stat.S_IMODE(os.stat(p).st_mode) == 0o644
 
 
+@pytest.fixture()
+def read_only(monkeypatch):
+    """Call with a folder: it becomes read-only — its modes (for a user) and os.access refusing
+    writes under it (root writes whatever the modes say; a shared read-only mount refuses)."""
+    from pathlib import Path
+
+    folders, real_access = [], os.access
+
+    def access(path, mode, *args, **kw):
+        if mode & os.W_OK and any(Path(path).resolve().is_relative_to(f) for f in folders):
+            return False
+        return real_access(path, mode, *args, **kw)
+
+    def _make(folder):
+        folders.append(Path(folder).resolve())
+        for p in [folder, *Path(folder).rglob("*")]:
+            p.chmod(p.stat().st_mode & ~0o222)
+
+    monkeypatch.setattr(os, "access", access)
+    yield _make
+    for folder in folders:
+        for p in [folder, *folder.rglob("*")]:
+            p.chmod(p.stat().st_mode | 0o200)
+
+
+def test_a_read_only_cache_serves_the_tables_it_holds(tmp_path, read_only, use_variant, capsys):
+    """A shared cache nobody may write: `build` and an in-scene ink take the table it holds (no
+    file written there), a table it lacks is refused in one line (exit 2) before any work."""
+    cache = tmp_path / "shared"
+    assert run_main(main, ["build", "--ink", "R15", "--cache", cache, "-o", tmp_path / "a.npz"], capsys)[0] == 0
+    read_only(cache)
+    before = sorted(cache.rglob("*"))
+    code, out, err = run_main(main, ["build", "--ink", "R15", "--cache", cache, "-o", tmp_path / "b.npz"], capsys)
+    assert code == 0 and "from cache" in out, err
+    assert np.array_equal(np.load(tmp_path / "a.npz")["Rbar"], np.load(tmp_path / "b.npz")["Rbar"])
+    mi = use_variant("scalar_spectral")
+    bsdf = mi.load_dict({"type": "ink", "ink": "R15", "cache": str(cache)})
+    assert bsdf is not None
+    code, out, err = run_main(main, ["build", "--ink", "Y15", "--cache", cache, "-o", tmp_path / "c.npz"], capsys)
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "is not writable" in err, err
+    assert sorted(cache.rglob("*")) == before
+
+
 def _run(args, **kw):
     return subprocess.run(CLI + args, capture_output=True, text=True, timeout=120, **kw)
 
@@ -112,9 +155,9 @@ def test_interrupts_at_random_moments_under_load_exit_promptly_and_leave_nothing
     no temp file, no output, no process (benchmarks/bench_interrupts.py runs 50)."""
     from benchmarks.bench_interrupts import stress
 
-    outcomes = stress(6, seed=1, latest_s=4.0, load=2, folder=tmp_path)
+    outcomes = stress(5, seed=1, latest_s=3.5, load=2, folder=tmp_path)
     hit = [o for o in outcomes if not o.finished_first]
-    assert len(hit) >= 4 and {o.signal for o in hit} == {signal.SIGINT, signal.SIGTERM}
+    assert len(hit) >= 3 and {o.signal for o in hit} == {signal.SIGINT, signal.SIGTERM}
     assert not [o.problems() for o in hit if o.problems()]
 
 

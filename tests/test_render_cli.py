@@ -139,13 +139,16 @@ def _bad_cases(tmp, tables, unwritable):
         "exposure inf": (base + ["--exposure", "inf", "--png", str(tmp / "x.png")], "--exposure"),
         "output not exr": ([scene, "--tables", str(tables), "-o", str(tmp / "x.png")], ".exr"),
         "too many samples": (base + ["--width", "2", "--height", "2", "--spp", "1100000000"], "2^32"),
+        # the size is checked before any table is read or built (a folder without tables here)
+        "image too large": ([scene, "--tables", str(tmp / "no tables"), "-o", exr, "--width", "100000",
+                             "--height", "100000"], "lower --width/--height"),
+        "too many samples at the scene's spp": ([scene, "--tables", str(tmp / "no tables"), "-o", exr,
+                                                 "--width", "9000", "--height", "9000"], "2^32"),
         "png not png": (base + ["--png", str(tmp / "x.jpg")], "--png"),
         "output in a file": ([scene, "-o", str(tables / "R30.npz" / "x.exr")], "not a folder"),
         "output read-only": ([scene, "-o", str(unwritable / "x.exr")], "cannot write in"),
         "png read-only": (base + ["--png", str(unwritable / "x.png")], "--png"),
         "variant bogus": (base + ["--variant", "bogus"], "llvm_ad_spectral"),
-        "variant rgb": (base + ["--variant", "scalar_rgb"], "scalar_spectral"),
-        "variant mono polarized": (base + ["--variant", "llvm_ad_mono_polarized"], "llvm_ad_spectral_polarized"),
         "param type": ([str(bare_scene(tmp, r30 + '<string name="paper" value="white"/>', name="t.xml")),
                         "-o", exr], "parameter 'paper'"),
         "param value": ([str(bare_scene(tmp, '<string name="ink" value="R30"/><string name="thickness" '

@@ -1,12 +1,17 @@
 """Print an image with the project's inks: colour separation, halftoning, and a scene of the
 printed page.
 
-    python -m inkbsdf.print IMAGE --inks R30,Y30,B30 [--coverage-model auto|clapper-yule|murray-davies]
+    python -m inkbsdf.print IMAGE [--inks R30,Y30,B30] [--coverage-model auto|clapper-yule|murray-davies]
         [--dots AM:150|FM|none] [--dpi N] [--paper 0.9] [--size WxH] [--intent relative|absolute]
-        -o page.xml
+        [--black gcr|ucr] [--black-strength 0.7] [--black-start 0.2] [--tac 300] [--black-ink SPEC|none]
+        [--gamut perceptual|clip] [--lut 33] [--characterisation OUT.txt] -o page.xml
+    python -m inkbsdf.print --characterisation OUT.txt [--inks …]     (the chart only)
 
 writes page.xml and, next to it, page_textures/ (one 8-bit coverage PNG per ink, white = full
-ink; the sky; proof.png, the model's colours of the print as sRGB). Render it with
+ink; the sky; proof.png, the model's colours of the print as sRGB). Colours are separated as
+the press measures them (45:0, D50, 2°): perceptual gamut mapping, black generation with a total
+area coverage limit. `--characterisation OUT.txt` writes an IT8.7/4-style chart of the inks and
+its predicted CIELAB as CGATS.17 text for ICC profilers. Render it with
 `python -m inkbsdf.render page.xml --spp 64 -o page.exr --png page.png`. The method:
 docs/printing.md. Bad input: one line on stderr, exit status 2, before any work; Ctrl-C: exit
 status 130.
@@ -54,8 +59,34 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = _Parser(prog="python -m inkbsdf.print", description=__doc__.split("\n\n")[0],
                 formatter_class=DefaultsFormatter)
-    p.add_argument("image", help="image file (PNG, JPEG, TIFF, …; taken as sRGB)")
-    p.add_argument("--inks", required=True, help="1 to 4 molecular ink specs in printing order, e.g. R30,Y30,B30")
+    from solver.apps.separation import BLACK_MODES, MAPPINGS, BlackGeneration, GamutSettings
+    from solver.apps.separation.printset import DEFAULT_INKS
+    from solver.apps.separation.separate import DEFAULT_LUT_NODES
+
+    black = BlackGeneration()
+    p.add_argument("image", nargs="?", help="image file (PNG, JPEG, TIFF, …; sRGB unless it embeds an ICC profile)")
+    p.add_argument("--inks", default=",".join(DEFAULT_INKS),
+                   help="1 to 4 molecular ink specs in printing order, e.g. R30,Y30,B30")
+    p.add_argument("--black", default=black.mode, choices=BLACK_MODES,
+                   help="black generation: gcr (black takes the grey part of every colour) or ucr (black in "
+                        "near-neutral shadows only)")
+    p.add_argument("--black-strength", type=float, default=black.strength,
+                   help="share of the grey component printed with black, 0 (least black) to 1")
+    p.add_argument("--black-start", type=float, default=black.start,
+                   help="black start: the share of the black's range, in [0, 1), below which no black is printed")
+    p.add_argument("--tac", type=float, default=100 * black.tac, help="total area coverage limit, percent (100–400)")
+    p.add_argument("--black-ink", default=None,
+                   help="which ink is the black (an ink of --inks, or none); default: the K ink, else the "
+                        "darkest neutral one")
+    p.add_argument("--gamut", default=MAPPINGS[0], choices=MAPPINGS,
+                   help="perceptual: hue-preserving compression toward the cusp; clip: the closest printable colour")
+    p.add_argument("--gamut-knee", type=float, default=GamutSettings().knee,
+                   help="share of the gamut left untouched by the perceptual mapping, in [0, 1)")
+    p.add_argument("--lut", type=int, default=DEFAULT_LUT_NODES,
+                   help="nodes per sRGB axis of the separation table used for images with more distinct "
+                        "colours than its nodes (0: separate every colour)")
+    p.add_argument("--characterisation", default=None, metavar="OUT.txt",
+                   help="also write an IT8.7/4-style chart and its predicted CIELAB (45:0, D50) as CGATS text")
     p.add_argument("--coverage-model", default=AUTO_MODEL, choices=(AUTO_MODEL,) + COVERAGE_MODELS,
                    help="model of the separation and the BSDF; auto: murray-davies for AM/FM dots "
                         "(what a render of binary dots shows), clapper-yule for --dots none")
@@ -68,7 +99,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--size", default="12", help="print size in cm: WIDTHxHEIGHT, or WIDTH (height from the image)")
     p.add_argument("--intent", default="relative", choices=INTENTS,
                    help="relative: the image's white prints as the paper; absolute: CIELAB against a perfect white")
-    p.add_argument("-o", "--output", required=True, help="scene file to write (.xml); textures go next to it")
+    p.add_argument("-o", "--output", default=None, help="scene file to write (.xml); textures go next to it")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     return p
 
@@ -95,7 +126,52 @@ def settings_from(args):
         except DotsError as exc:
             raise UsageError(f"--{exc}") from None
     return PrintSettings(inks=inks, dots=dots, coverage_model=args.coverage_model, paper=args.paper,
-                         size_cm=parse_size(args.size), dpi=args.dpi, intent=args.intent)
+                         size_cm=parse_size(args.size), dpi=args.dpi, intent=args.intent,
+                         black=black_rule(args), black_ink=black_ink(args, inks), mapping=args.gamut,
+                         gamut=gamut_settings(args), lut_nodes=lut_nodes(args))
+
+
+def black_rule(args):
+    """BlackGeneration from --black, --black-strength, --black-start, --tac (UsageError naming
+    the option otherwise)."""
+    from solver.apps.separation import BlackGeneration
+
+    if not 0.0 <= args.black_strength <= 1.0:
+        raise UsageError(f"--black-strength: give a share in [0, 1], got {args.black_strength:g}")
+    if not 0.0 <= args.black_start < 1.0:
+        raise UsageError(f"--black-start: give a share in [0, 1), got {args.black_start:g}")
+    if not 100.0 <= args.tac <= 400.0:
+        raise UsageError(f"--tac: give a total area coverage limit in [100, 400] percent, got {args.tac:g}")
+    return BlackGeneration(args.black, args.black_strength, args.black_start, args.tac / 100.0)
+
+
+def black_ink(args, inks):
+    if args.black_ink is None or args.black_ink == "none":
+        return args.black_ink
+    from solver.inks import parse_ink
+
+    try:
+        label = parse_ink(args.black_ink).label
+    except ValueError as exc:
+        raise UsageError(f"--black-ink: {exc}") from None
+    if label not in inks:
+        raise UsageError(f"--black-ink: {args.black_ink} is not one of --inks ({', '.join(inks)}); name one "
+                         "of them or none")
+    return label
+
+
+def gamut_settings(args):
+    from solver.apps.separation import GamutSettings
+
+    if not 0.0 <= args.gamut_knee < 1.0:
+        raise UsageError(f"--gamut-knee: give a share in [0, 1), got {args.gamut_knee:g}")
+    return GamutSettings(knee=args.gamut_knee)
+
+
+def lut_nodes(args) -> int:
+    if args.lut != 0 and not 2 <= args.lut <= 129:
+        raise UsageError(f"--lut: give 0 (no table) or 2 to 129 nodes per axis, got {args.lut}")
+    return args.lut
 
 
 def scene_xml(result, texture_folder: str, texture_files) -> str:
@@ -140,12 +216,27 @@ def main(argv=None) -> int:
 
 
 def _main(argv) -> int:
-    from solver.apps.separation import DotsError, print_image, printed_inks, read_srgb8, write_textures
+    from solver.apps.separation import DotsError, print_image, printed_inks, read_image, write_textures
 
     args = build_parser().parse_args(argv)
     settings = settings_from(args)
-    output = writable_output(args.output, ".xml", "-o/--output")
-    rgb8 = read_srgb8(args.image)
+    if args.image is None and args.characterisation is None:
+        raise UsageError("give an IMAGE to print (with -o page.xml), or --characterisation OUT.txt")
+    if args.image is not None and args.output is None:
+        raise UsageError("-o/--output: give the scene file to write (e.g. -o page.xml)")
+    if args.image is None and args.output is not None:
+        raise UsageError("-o/--output: there is no IMAGE to print; give one, or leave -o out")
+    chart = (writable_output(args.characterisation, ".txt", "--characterisation", make_folder=True)
+             if args.characterisation is not None else None)
+    output = writable_output(args.output, ".xml", "-o/--output") if args.output is not None else None
+    if chart is not None:
+        write_characterisation(settings, chart)
+    if args.image is None:
+        return 0
+    image = read_image(args.image)
+    for note in image.notes:
+        print(f"{args.image}: {note}")
+    rgb8 = image.rgb8
     try:
         grid = settings.grid(rgb8.shape[:2])
     except DotsError as exc:
@@ -170,6 +261,19 @@ def _main(argv) -> int:
         print("screen angles: " + ", ".join(f"{ink} {a:g}°" for ink, a in zip(settings.inks, result.angles_deg)))
     print(f"wrote {output} and {folder}/ ({', '.join(f.name for f in files)}, proof.png)")
     return 0
+
+
+def write_characterisation(settings, path: Path) -> None:
+    """The IT8.7/4-style chart of the inks and its predicted colour, as CGATS text."""
+    from solver.apps.separation import printed_inks
+    from solver.apps.separation.characterisation import characterisation_text
+    from solver.apps.separation.job import print_model
+
+    model, black = print_model(settings, printed_inks(settings.inks))
+    text = characterisation_text(model, settings.inks, black)
+    path.write_text(text)
+    sets = text.split("BEGIN_DATA\n")[1].split("END_DATA")[0].count("\n")
+    print(f"wrote {path} ({sets:,} patches, CGATS.17, {model.measurement.label} absolute CIELAB)")
 
 
 class ColourProgress:

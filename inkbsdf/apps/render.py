@@ -31,6 +31,10 @@ from inkbsdf.errors import loader_problem
 #: Samples (pixels × spp) one `mi.render` can take: above it Mitsuba 3.9 splits the render into
 #: passes, and that segfaults (probed: 2×2 px × 1.1e9 spp).
 MAX_SAMPLES = 2**32
+#: memory of a rendered image per pixel, bytes: Mitsuba's film, the developed image and its NumPy
+#: copy (peak RSS growth of a 1024×1024, 4-spp path render in llvm_ad_spectral: 52 B per pixel;
+#: the samples are traced in chunks, so spp adds little)
+IMAGE_BYTES_PER_PIXEL = 64
 
 
 @dataclass(frozen=True)
@@ -80,6 +84,43 @@ def load_scene(path, **params):
     except Exception as exc:   # Mitsuba wraps plugin errors in RuntimeError with a traceback
         raise SceneLoadError(loader_problem(exc) if str(scene_path) in str(exc)
                              else f"{scene_path}: {loader_problem(exc)}") from None
+
+
+def scene_defaults(xml_text: str) -> dict:
+    """{name: value} of a scene file's `<default name=… value=…/>`."""
+    return dict(re.findall(r'<default\s+name="(\w+)"\s+value="([^"]*)"', xml_text))
+
+
+def planned_image(scene_path, width=None, height=None, spp=None) -> tuple[int, int, int | None] | None:
+    """(width, height, spp or None) a render of the scene file will have, as far as the file and
+    the options tell before it loads (None: its size is not a parameter with a default)."""
+    text = Path(scene_path).read_text(errors="replace")
+    taken, defaults = scene_parameter_names(text), scene_defaults(text)
+
+    def value(name, given):
+        if given is not None and name in taken:
+            return int(given)
+        try:
+            return int(defaults[name])
+        except (KeyError, ValueError):
+            return None
+
+    w, h = value("width", width), value("height", height)
+    return None if w is None or h is None else (w, h, spp if spp is not None else value("spp", None))
+
+
+def check_image(width: int, height: int, spp: int | None) -> None:
+    """Refuse (UsageError) an image this machine cannot hold, or more samples than one render
+    takes (MAX_SAMPLES; spp None: at least one per pixel)."""
+    from solver.table.preflight import memory_exceeded
+
+    problem = memory_exceeded(width * height * IMAGE_BYTES_PER_PIXEL, f"{IMAGE_BYTES_PER_PIXEL} B per pixel")
+    if problem:
+        raise UsageError(f"a {width}×{height} image {problem}: lower --width/--height")
+    samples = width * height * (spp or 1)
+    if samples > MAX_SAMPLES:
+        raise UsageError(f"{width}×{height} pixels × {spp or 1} spp = {samples:,} samples, over Mitsuba's limit "
+                         f"of 2^32 per render (its multi-pass fallback crashes in 3.9): lower --spp or the size")
 
 
 def scene_spp(scene) -> int:
@@ -175,6 +216,9 @@ def _main(argv) -> int:
         raise UsageError("-o/--output and --png name the same file")
     if not Path(args.scene).is_file():
         raise UsageError(f"{args.scene}: scene file not found")
+    planned = planned_image(args.scene, args.width, args.height, args.spp)
+    if planned:
+        check_image(*planned)                  # before any table is built or read
     import inkbsdf
     from inkbsdf.apps.imageio import write_exr, write_png
     from solver.table.executor import default_workers
@@ -196,9 +240,7 @@ def _main(argv) -> int:
     load_s = time.perf_counter() - t0
     spp = args.spp or scene_spp(scene)
     w, h = scene.sensors()[0].film().crop_size()
-    if w * h * spp > MAX_SAMPLES:
-        raise UsageError(f"{w}×{h} pixels × {spp} spp = {w * h * spp:,} samples, over Mitsuba's limit of "
-                         f"2^32 per render (its multi-pass fallback crashes in 3.9): lower --spp or the size")
+    check_image(w, h, spp)
     print(f"{args.scene}: {w}×{h}, {spp} spp" + (" (the scene's default)" if args.spp is None else "")
           + f", {variant}: rendering…", flush=True)
     image, render_s = render_loaded(scene, args.spp, args.seed)

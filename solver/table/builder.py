@@ -222,9 +222,12 @@ def get_or_build(request: TableRequest, opts: BuildOptions | None = None) -> tup
 
     Returns (table, path, built) — built is False on a cache hit (nothing computed)."""
     opts = opts or BuildOptions()
-    opts.cache.check()
-    table = opts.cache.load(request)
+    if opts.cache.root.is_dir():
+        table = opts.cache.load(request)        # a read-only cache serves what it holds
+    else:
+        table = None
     if table is None:
+        opts.cache.check()                      # building: the cache must be writable
         preflight.check(request, opts.workers, opts.cache.root, force=opts.force)
         if opts.scheduler and not request.molecular:
             check_scheduler(opts.scheduler)

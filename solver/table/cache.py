@@ -4,7 +4,8 @@
     <root>/parts/<key>/*.npz    finished work units of a build in progress
     <root>/locks/<key>.lock     one builder per table (flock)
 
-Root: $INKBSDF_CACHE, else ~/.cache/inkbsdf.  Every write is atomic (temp file + rename), so
+Root: $INKBSDF_CACHE, else ~/.cache/inkbsdf.  A cache that cannot be written (a shared,
+read-only folder) serves the tables it holds; only a build needs it writable.  Every write is atomic (temp file + rename), so
 an interrupted build leaves only whole files; the next build reuses them and computes the rest.
 A part that cannot be read or holds non-finite numbers is logged by name, removed and
 recomputed.  Temp files of writers that died (their pid is in the name) and parts of builds
@@ -115,7 +116,8 @@ class TableCache:
             return read_table(path)
         except TableError as exc:
             log.warning("cached table unusable, rebuilding it: %s", exc)
-            path.unlink(missing_ok=True)
+            with contextlib.suppress(OSError):  # a read-only cache: `check` refuses it before a build
+                path.unlink(missing_ok=True)
             return None
 
     def store(self, request: TableRequest, table: InkTable) -> Path:

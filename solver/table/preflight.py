@@ -133,21 +133,34 @@ def _warn_unresolved(request: TableRequest) -> None:
     w = request.wave
     voxel_nm = min(w.cell_nm / w.grid[0], w.cell_nm / w.grid[1], request.thickness_nm / w.grid[2])
     for layer in request.layers:
-        if layer.particles is not None and layer.particles.diameter_nm < UNRESOLVED_GRAIN_SHARE * voxel_nm:
-            log.warning("%s: grains of %g nm are much smaller than the %.0f-nm voxels: the wave tier sees "
-                        "only their average (a smooth mix, as --particles molecular gives at no cost)",
-                        request.describe(), layer.particles.diameter_nm, voxel_nm)
+        if layer.particles is not None:
+            warn_unresolved(request.describe(), layer.particles.diameter_nm, voxel_nm,
+                            "the wave tier sees only their average (a smooth mix, as --particles molecular "
+                            "gives at no cost)")
+
+
+def warn_unresolved(what: str, diameter_nm: float, voxel_nm: float, consequence: str) -> None:
+    """Warn when grains of `diameter_nm` are much smaller than the voxels (UNRESOLVED_GRAIN_SHARE)."""
+    if diameter_nm < UNRESOLVED_GRAIN_SHARE * voxel_nm:
+        log.warning("%s: grains of %g nm are much smaller than the %.0f-nm voxels: %s",
+                    what, diameter_nm, voxel_nm, consequence)
+
+
+def memory_exceeded(need_bytes: float, how: str = "") -> str | None:
+    """The problem when `need_bytes` exceed the share of this machine's available memory a
+    command may plan to use (MEMORY_SHARE), else None; `how`: how the need adds up."""
+    memory = host.available_memory_bytes() * MEMORY_SHARE
+    if need_bytes <= memory:
+        return None
+    return f"needs ≈ {_size(need_bytes)} of memory{f' ({how})' if how else ''}, this machine has {_size(memory)} available"
 
 
 def limits_exceeded(est: Estimate, request: TableRequest, workers: int, cache_root: Path) -> list[str]:
     """What of this machine the estimated build would exceed (memory, the cache's disk); empty
     when it fits."""
-    memory = host.available_memory_bytes() * MEMORY_SHARE
-    need = est.worker_bytes * max(1, workers if not request.molecular else 1)
-    problems = []
-    if need > memory:
-        problems.append(f"needs ≈ {_size(need)} of memory ({workers} worker(s) × {_size(est.worker_bytes)}), "
-                        f"this machine has {_size(memory)} available")
+    count = max(1, workers if not request.molecular else 1)
+    memory = memory_exceeded(est.worker_bytes * count, f"{count} worker(s) × {_size(est.worker_bytes)}")
+    problems = [memory] if memory else []
     try:
         free = shutil.disk_usage(cache_root if cache_root.exists() else cache_root.parent).free * DISK_SHARE
     except OSError:
@@ -171,3 +184,32 @@ def check(request: TableRequest, workers: int, cache_root: Path, *, force: bool 
     if est.seconds > LONG_BUILD_S:
         log.warning("%s will take long: %s", request.describe(), est.describe())
     return est
+
+
+#: how `ink-tables geometry` makes a cell cheaper (its own options)
+GEOMETRY_FIX = "use a coarser --grid, a smaller --cell or --thickness or larger grains (--particles)"
+
+
+def check_geometry(layer, grid: tuple[int, int, int], *, force: bool = False):
+    """`ink-tables geometry`'s preflight, the build's limits for one cell (geometry.cost): refuse
+    what cannot fit the memory (unless forced), warn about grains the voxels do not resolve and
+    a long generation, announce one that takes a while; return the GeometryCost."""
+    from ..geometry import geometry_cost
+
+    nx, ny, nz = grid
+    what = (f"{layer.ink.label} {layer.particles.label} H={layer.thickness_nm:g} nm, cell "
+            f"{layer.cell_nm[0]:g}×{layer.cell_nm[1]:g} nm, grid {nx}×{ny}×{nz}")
+    cost = geometry_cost(layer, grid)
+    estimate_text = f"{cost.grains:,} grains, ≈ {_duration(cost.seconds)}"
+    problem = memory_exceeded(cost.peak_bytes)
+    if problem and not force:
+        raise PreflightError(f"{what}: refused before starting: {problem} (estimate: {estimate_text}; "
+                             f"{GEOMETRY_FIX}, or --force to try anyway)")
+    voxel_nm = min(layer.cell_nm[0] / nx, layer.cell_nm[1] / ny, layer.thickness_nm / nz)
+    warn_unresolved(what, layer.particles.diameter_nm, voxel_nm,
+                    "the voxels hold only their average (a finer --grid resolves them)")
+    if cost.seconds > LONG_BUILD_S:
+        log.warning("%s will take long: %s (%s)", what, estimate_text, GEOMETRY_FIX)
+    elif cost.seconds > GEOMETRY_NOTE_S:
+        log.info("geometry: ≈ %s (estimate: %s grains)", _duration(cost.seconds), f"{cost.grains:,}")
+    return cost

@@ -17,7 +17,7 @@ from ...interrupts import Terminated, deferred, exit_status, raising
 # .parsing (NumPy, the request's grammar) is imported inside the functions: an interrupt while
 # it loads is then one line too (main)
 
-SUBCOMMANDS = ("build", "show", "geometry", "paper")
+SUBCOMMANDS = ("build", "show", "geometry", "paper", "design")
 VERBOSE_HELP = ("also log debug details (the request and its cache key, the options in effect); "
                 "before or after the subcommand")
 log = logging.getLogger("ink-tables")
@@ -88,14 +88,15 @@ def main(argv: list[str] | None = None) -> int:
             print(f"ink-tables: {'terminated' if isinstance(exc, Terminated) else 'interrupted'}", file=sys.stderr)
             return exit_status(exc)
         prefix = f"ink-tables {args.command}"
-        return run_guarded(lambda: _run(args), prefix,
-                           f"{prefix}: {{interrupted}} (finished work units are kept; rerun to resume)")
+        note = " (finished work units are kept; rerun to resume)" if getattr(args, "resumes", False) else ""
+        hint = {"memory_hint": args.memory_hint} if getattr(args, "memory_hint", None) else {}
+        return run_guarded(lambda: _run(args), prefix, f"{prefix}: {{interrupted}}{note}", **hint)
 
 
 def _run(args) -> int:
     configure_logging(args.verbose)
     log.debug("ink-tables %s, Python %s; options %s", package_version(), sys.version.split()[0],
-              {k: v for k, v in vars(args).items() if k != "func" and v is not None})
+              {k: v for k, v in vars(args).items() if k not in ("func", "resumes", "memory_hint") and v is not None})
     return args.func(args)
 
 

@@ -134,7 +134,7 @@ def add_parser(sub) -> None:
     add_request_arguments(p)
     add_run_arguments(p)
     p.add_argument("-o", "--output", required=True, help="table file to write (.npz)")
-    p.set_defaults(func=run)
+    p.set_defaults(func=run, resumes=True)            # an interrupt keeps finished work units
 
 
 def given_options(args) -> dict:

@@ -10,6 +10,7 @@ exactly through the particles and through the voxel grid the wave solver uses.
 from __future__ import annotations
 
 from solver.inks import parse_ink
+from solver.table.preflight import GEOMETRY_FIX, check_geometry
 from solver.table.request import WaveSettings
 from solver.table.request_checks import refuse_grains_without_pigment
 from .parsing import PARTICLE_GRAMMAR, PARTICLE_GRAMMAR_KEY, DefaultsFormatter, writable_output
@@ -38,7 +39,9 @@ def add_parser(sub) -> None:
     p.add_argument("--z", type=float, default=None, help="depth of the horizontal section, nm (default: middle)")
     p.add_argument("--y", type=float, default=None, help="y of the vertical section, nm (default: middle)")
     p.add_argument("--progress", action="store_true", help="show a progress bar of the generation stages")
-    p.set_defaults(func=run)
+    p.add_argument("--force", action="store_true",
+                   help="generate even what the estimate says cannot fit this machine's memory")
+    p.set_defaults(func=run, memory_hint=GEOMETRY_FIX)
 
 
 def progress_bar():
@@ -98,6 +101,9 @@ def run(args) -> int:
     if len(args.cell) > 2:
         raise ValueError(f"--cell takes one or two lengths, got {len(args.cell)}")
     cell = (args.cell[0], args.cell[-1])
+    grid = tuple(args.grid)
+    if min(grid) < 1:
+        raise ValueError(f"--grid {' '.join(map(str, grid))}: voxel counts are integers ≥ 1")
     for option, value, top in (("--z", args.z, args.thickness), ("--y", args.y, cell[1])):
         if value is not None and not 0.0 <= value <= top:
             raise ValueError(f"{option} {value:g}: the section must lie inside the layer cell, 0 … {top:g} nm")
@@ -105,12 +111,13 @@ def run(args) -> int:
     layer = LayerSpec(ink, particles, thickness_nm=args.thickness, cell_nm=cell)
     if args.png:
         writable_output(args.png, ".png", "--png", make_folder=True)
+    check_geometry(layer, grid, force=args.force)
     update, close = progress_bar() if args.progress else (None, lambda: None)
     try:
         real = generate(layer, seed, progress=update)
     finally:
         close()
-    vox = voxelize(real, tuple(args.grid))
+    vox = voxelize(real, grid)
     print(summary(real, vox))
     if args.realization is not None:
         print(seed_text)

@@ -44,7 +44,7 @@ def add_parser(sub) -> None:
                    help="also test the paper's §3.3 findings on every row/column pair and write them here")
     add_request_arguments(p, names=FIGURE_OVERRIDES, group="overrides of the preset (quick drafts; every cell gets them)")
     add_run_arguments(p)
-    p.set_defaults(func=run)
+    p.set_defaults(func=run, resumes=True)            # an interrupt keeps finished work units
 
 
 def settings_from_args(args) -> FigureSettings:

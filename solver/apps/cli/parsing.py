@@ -34,7 +34,11 @@ def interrupted_word(exc: KeyboardInterrupt) -> str:
     return "terminated" if isinstance(exc, Terminated) else "interrupted"
 
 
-def run_guarded(work, prefix: str = "", interrupted: str | None = None) -> int:
+#: what run_guarded tells a command that ran out of memory to do (a command may name its own)
+MEMORY_HINT = "use coarser settings (--grid, --wavelengths, --angles) or fewer --workers"
+
+
+def run_guarded(work, prefix: str = "", interrupted: str | None = None, memory_hint: str = MEMORY_HINT) -> int:
     """The commands' one wrapper (`ink-tables`, `python -m inkbsdf.print`, `… render`): run
     `work()` (→ exit status) with each warning said as one `warning: …` line, bad input (a
     ValueError: requests, specs, tables, images, usage) and file problems (OSError) as one
@@ -44,7 +48,7 @@ def run_guarded(work, prefix: str = "", interrupted: str | None = None) -> int:
     `{interrupted}` filled with "interrupted" or "terminated" — and exit 128 + the signal (None:
     the caller handles interrupts), a worker process lost (killed from outside) as one line and
     exit 1, a closed output pipe quietly (`… | head`), memory exhausted
-    as one line and exit 1. Anything else is a bug and keeps its traceback."""
+    as one line (with `memory_hint`) and exit 1. Anything else is a bug and keeps its traceback."""
     lead = f"{prefix}: error:" if prefix else "error:"
     with warnings.catch_warnings():
         warnings.showwarning = print_warning
@@ -55,12 +59,12 @@ def run_guarded(work, prefix: str = "", interrupted: str | None = None) -> int:
             if interrupt is None and not isinstance(exc, SystemExit):
                 interrupt = received()                # an interrupt that C code turned into another error
             if interrupt is None or interrupted is None:
-                return _failure(exc, lead)
+                return _failure(exc, lead, memory_hint)
             print(interrupted.replace("{interrupted}", interrupted_word(interrupt)), file=sys.stderr)
             return exit_status(interrupt)
 
 
-def _failure(exc: BaseException, lead: str) -> int:
+def _failure(exc: BaseException, lead: str, memory_hint: str) -> int:
     """run_guarded's exit status for a failure that is not a bug (told in one line), else the
     exception again."""
     if isinstance(exc, BrokenPipeError):
@@ -68,8 +72,7 @@ def _failure(exc: BaseException, lead: str) -> int:
         return 0
     if isinstance(exc, MemoryError):                  # e.g. a build forced past the preflight's estimate
         first = str(exc).splitlines()[0] if str(exc) else "out of memory"
-        print(f"{lead} ran out of memory ({first}); use coarser settings (--grid, --wavelengths, "
-              "--angles) or fewer --workers", file=sys.stderr)
+        print(f"{lead} ran out of memory ({first}); {memory_hint}", file=sys.stderr)
         return 1
     if isinstance(exc, RuntimeError):                 # a table refused: no converged solve (why); a worker lost
         from solver.table.workers import WorkerLost
@@ -84,11 +87,40 @@ def _failure(exc: BaseException, lead: str) -> int:
     raise exc
 
 
+class _StoreOnce(argparse._StoreAction):
+    """argparse's `store`, refusing an option given twice in one command line (`--ink R15 --ink
+    Y15` kept the last silently): a usage error naming both values."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        seen = parser.__dict__.setdefault("_given_once", {})
+        if self.dest in seen:
+            first_option, first = seen[self.dest]
+            raise argparse.ArgumentError(self, f"given twice ({first_option} {_shown(first)}, then "
+                                               f"{option_string} {_shown(values)}): give it once")
+        seen[self.dest] = (option_string, values)
+        super().__call__(parser, namespace, values, option_string)
+
+
+def _shown(values) -> str:
+    return " ".join(map(str, values)) if isinstance(values, list) else str(values)
+
+
 class OneLineParser(argparse.ArgumentParser):
     """argparse's usage errors as one line naming the problem (not the usage block); exit 2, or
-    `usage_error` raised when a subclass sets it (a caller that prints its own errors)."""
+    `usage_error` raised when a subclass sets it (a caller that prints its own errors).  A
+    single-value option (argparse's `store`) given twice is such an error, for every command
+    and subcommand (their parsers are of this class)."""
 
     usage_error: type[Exception] | None = None
+
+    def __init__(self, *args, **kw):
+        super().__init__(*args, **kw)
+        self.register("action", None, _StoreOnce)
+        self.register("action", "store", _StoreOnce)
+
+    def parse_known_args(self, args=None, namespace=None):
+        self._given_once = {}                     # options given in this command line
+        return super().parse_known_args(args, namespace)
 
     def error(self, message):
         text = f"{message} (see --help)"

@@ -161,12 +161,13 @@ def make_figure(figure: str, rows, columns, settings: FigureSettings, opts: Buil
     out_png = Path(out_png)
     started = time.perf_counter()
     plans = plan_cells(rows, columns, settings)          # bad settings are refused here, before any work
-    opts.cache.check()
     ests = estimates(plans, opts)
     refuse_what_cannot_fit(figure, plans, ests, opts)
     seconds = [0.0 if e is None else e.seconds for e in ests]
     cached = sum(p.request is not None and e is None for p, e in zip(plans, ests))   # None: in the cache
     unplanned = sum(p.request is None for p in plans)
+    if cached < len(plans) - unplanned:
+        opts.cache.check()                         # something to build: the cache must be writable
     where = f"on {opts.scheduler}" if opts.scheduler else f"with {opts.workers} worker(s)"
     echo(f"{figure}: {len(rows)} × {len(columns)} = {plural(len(plans), 'cell')}, {cached} in the cache, "
          f"{len(plans) - cached - unplanned} to build (estimated {duration(sum(seconds))} {where})"

@@ -17,7 +17,7 @@ thresholds), `halftone` (texel grid, dots), `image` (files), `job` (one print's 
 from .black import BLACK_MODES, BlackGeneration, InkingObjective, black_index
 from .colour_space import INTENTS, delta_e76, delta_e2000, lab_to_srgb8, srgb8_to_lab
 from .halftone import Dots, DotsError, TexelGrid, halftone_ink, parse_dots, texture_mean
-from .image import ImageError, read_srgb8, unique_colours, write_grey_png, write_rgb_png
+from .image import ImageError, ImageWarning, LoadedImage, read_image, read_srgb8, unique_colours, write_grey_png, write_rgb_png
 from .job import AUTO_MODEL, PrintedImage, PrintSettings, print_image, resolve_coverage_model, write_textures
 from .printmodel import PrintColourModel
 from .printset import InkListError, parse_ink_list, printed_inks
@@ -28,7 +28,7 @@ from .solve import CoverageGrid, Separation, SolverSettings, separate_lab
 
 __all__ = ["AUTO_MODEL", "BLACK_MODES", "BlackGeneration", "GamutBoundary", "GamutSettings", "InkingObjective",
            "MAPPINGS", "SeparationLUT", "Separator", "black_index", "map_to_gamut", "INTENTS", "CoverageGrid", "Dots", "DotsError", "ImageError", "ImageSeparation",
-           "InkListError", "PrintColourModel", "PrintSettings", "PrintedImage", "Separation",
+           "ImageWarning", "InkListError", "LoadedImage", "read_image", "PrintColourModel", "PrintSettings", "PrintedImage", "Separation",
            "SeparationReport", "SolverSettings", "TexelGrid", "am_threshold", "blue_noise_mask",
            "delta_e76", "delta_e2000", "fm_threshold", "halftone_ink", "lab_to_srgb8", "parse_dots",
            "parse_ink_list", "print_image", "printed_inks", "read_srgb8", "resolve_coverage_model",

@@ -5,15 +5,19 @@ cusp of their hue (docs/printing.md, "Gamut mapping").
     mapped = map_to_gamut(srgb_lab, boundary)                # CIELAB [N, 3] inside the gamut
 
 **The print's gamut** (`GamutBoundary`): the printed colours of a dense sample of coverage
-space (a regular grid, every 2-D face of the coverage cube finer, mixes over the total area
-coverage limit scaled onto it) in CIELCh under the model's measurement (45:0, D50 by default).
+space (a grid, every 2-D face of the coverage cube finer, both with nodes at (i/n)² so that
+the light tints near paper white are sampled finely; mixes over the total area coverage limit
+scaled onto it) in CIELCh under the model's measurement (45:0, D50 by default).
 Per hue slice (`HUE_BINS` slices, each gathering the samples within one slice width of its
 hue) the boundary is the convex hull of the samples in the (C*, L*) half-plane, tabulated as the
-largest chroma C_max(h, L*) on `LIGHTNESS_NODES` lightness levels and interpolated bilinearly
-(periodic in hue). Convex slices give every ray from the neutral axis one exit, so the mapping
+largest chroma C_max(h, L*) on `LIGHTNESS_NODES` lightness levels, smoothed across hue (a
+Gaussian of `HUE_SMOOTHING_BINS` slices: the hulls follow the samples' scatter) and
+interpolated bilinearly (periodic in hue). Convex slices give every ray from the neutral axis one exit, so the mapping
 below is continuous; where the true gamut is concave the hull overestimates it slightly and the
-separation takes the closest printable colour there (its ΔE is reported). The cusp of a hue is
-the (L*, C*) of its largest chroma.
+separation would take the closest printable colour there; `refined` checks the boundary against
+the print (targets on it separated, C_max scaled by the chroma reached) so that few mapped
+colours are missed (the report counts them). The cusp of a hue is the (L*, C*) of its largest
+chroma.
 
 **The mapping** (`map_to_gamut`, vectorised):
 
@@ -46,11 +50,14 @@ from .colour_space import lab_to_linear_srgb
 
 HUE_BINS = 180                  # hue slices (2° each)
 LIGHTNESS_NODES = 201           # L* levels 0, 0.5, …, 100 of the boundary table
-GRID_NODES = {1: 257, 2: 129, 3: 33, 4: 15}     # regular-grid samples per ink axis
-FACE_NODES = 65                 # samples per axis on each 2-D face of the coverage cube
+GRID_NODES = {1: 257, 2: 129, 3: 33, 4: 13}     # regular-grid samples per ink axis
+FACE_NODES = 49                 # samples per axis on each 2-D face of the coverage cube
 RAY_STEP_DE = 1.0               # marching step along a ray (CIELAB units) before bisection
 RAY_MAX_DE = 200.0
-BISECTIONS = 12
+BISECTIONS = 20
+HUE_SMOOTHING_BINS = 1.5       # σ of the hue smoothing of C_max (slices); the cusp's L* twice that
+REFINE_STEP_L = 3.0             # L* step of the boundary's check against the print (`refined`)
+NEUTRAL_CHROMA = 3.0            # C* below which a sample counts as neutral (the print's black)
 
 
 @dataclass(frozen=True)
@@ -59,7 +66,7 @@ class GamutSettings:
 
     knee: float = 0.8           # share of the print's boundary distance left untouched
     lightness_weight: float = 0.5   # focal point: 0 the hue's cusp L*, 1 the colour's own L*
-    margin_de: float = 0.5      # mapped colours land this much chroma (CIELAB units) inside the boundary
+    margin_de: float = 1.5      # mapped colours land this much chroma (CIELAB units) inside the boundary
 
     def __post_init__(self):
         if not 0.0 <= self.lightness_weight < 1.0:
@@ -81,13 +88,27 @@ def from_lch(L, C, h_deg) -> np.ndarray:
     return np.stack([L, C * np.cos(h), C * np.sin(h)], axis=-1)
 
 
+def _smooth_hue(table: np.ndarray, sigma_bins: float) -> np.ndarray:
+    """[H, …] smoothed along the (periodic) hue axis with a Gaussian of `sigma_bins` slices."""
+    r = int(np.ceil(3 * sigma_bins))
+    w = np.exp(-0.5 * (np.arange(-r, r + 1) / sigma_bins) ** 2)
+    w /= w.sum()
+    return sum(wi * np.roll(table, shift, axis=0) for wi, shift in zip(w, range(-r, r + 1)))
+
+
+def _dense_ends(n: int) -> np.ndarray:
+    """n coverages in [0, 1], denser near 0 (light tints) and 1 (the darkest colours):
+    (1 − cos(π i/(n−1)))/2."""
+    return 0.5 - 0.5 * np.cos(np.pi * np.arange(n) / (n - 1))
+
+
 def coverage_samples(n_inks: int, tac: float) -> np.ndarray:
     """Coverage mixes [M, k] that sample the print's gamut and its boundary (module docstring);
     mixes whose sum exceeds `tac` are scaled onto the limit."""
     n = GRID_NODES.get(n_inks, 9)
-    axis = np.linspace(0.0, 1.0, n)
+    axis = _dense_ends(n)
     parts = [np.stack(np.meshgrid(*([axis] * n_inks), indexing="ij"), -1).reshape(-1, n_inks)]
-    face = np.linspace(0.0, 1.0, FACE_NODES)
+    face = _dense_ends(FACE_NODES)
     fu, fv = (a.ravel() for a in np.meshgrid(face, face, indexing="ij"))
     for i, j in combinations(range(n_inks), 2):
         others = [m for m in range(n_inks) if m not in (i, j)]
@@ -102,12 +123,13 @@ def coverage_samples(n_inks: int, tac: float) -> np.ndarray:
     return np.where(total > tac, c * (tac / np.maximum(total, 1e-12)), c)
 
 
-def _hull_chroma(C, L, levels) -> np.ndarray:
+def _hull_chroma(C, L, levels, black_l: float, white_l: float) -> np.ndarray:
     """C_max at each of `levels` (L*) of the convex hull of points (C, L) plus the neutral axis
-    between their lightest and darkest L; −1 outside the hull's lightness range."""
+    from the print's black to the paper's white (both printable); −1 outside the hull's
+    lightness range."""
     from scipy.spatial import ConvexHull
 
-    pts = np.concatenate([np.stack([C, L], -1), [[0.0, L.min()], [0.0, L.max()]]])
+    pts = np.concatenate([np.stack([C, L], -1), [[0.0, black_l], [0.0, white_l]]])
     try:
         poly = pts[ConvexHull(pts).vertices]
     except Exception:                                     # degenerate slice (collinear samples)
@@ -129,7 +151,7 @@ class GamutBoundary:
     lightness: np.ndarray          # [NL] levels
     cmax: np.ndarray               # [H, NL]; −1 where the slice has no colour of that L*
     white_l: float                 # L* of the print's white (bare paper)
-    black_l: float                 # L* of the darkest neutral the print reaches
+    black_l: float                 # L* of the darkest near-neutral (C* ≤ NEUTRAL_CHROMA) colour
     cusp_l: np.ndarray             # [H]
     cusp_c: np.ndarray             # [H]
 
@@ -147,20 +169,57 @@ class GamutBoundary:
         centres = (np.arange(HUE_BINS) + 0.5) * width
         levels = np.linspace(0.0, 100.0, LIGHTNESS_NODES)
         cmax = np.empty((HUE_BINS, LIGHTNESS_NODES))
+        # the print's black: its darkest near-neutral colour (the darkest colour if none is)
+        neutral = C <= NEUTRAL_CHROMA
+        black_l = min(float(np.min(L[neutral])) if neutral.any() else float(np.min(L)), float(white_l))
+        order = np.argsort(h)
+        hs, Ls, Cs = h[order], L[order], C[order]
+        hs3 = np.concatenate([hs - 360.0, hs, hs + 360.0])          # windows that wrap around 0°
         for j, hc in enumerate(centres):
-            dh = np.abs((h - hc + 180.0) % 360.0 - 180.0)
-            sel = dh <= width
-            proj = C[sel] * np.cos(np.radians(dh[sel]))   # the samples' chroma along the slice
-            cmax[j] = _hull_chroma(proj, L[sel], levels) if sel.sum() >= 3 else -1.0
-        # the darkest neutral: the lowest L* every slice reaches (with some chroma to spare)
-        reach = np.where(cmax >= 0.0, levels[None, :], np.inf).min(axis=1)
-        black_l = float(np.max(reach))
+            lo, hi = np.searchsorted(hs3, [hc - width, hc + width], side="left")
+            sel = np.arange(lo, hi) % hs.size
+            if sel.size < 3:
+                cmax[j] = -1.0
+                continue
+            dh = np.abs((hs[sel] - hc + 180.0) % 360.0 - 180.0)
+            proj = Cs[sel] * np.cos(np.radians(dh))             # the samples' chroma along the slice
+            cmax[j] = _hull_chroma(proj, Ls[sel], levels, black_l, white_l)
+        # smooth across hue (a circular Gaussian of HUE_SMOOTHING_BINS): the slices' hulls follow
+        # the samples' scatter; a mean of concave profiles is concave, so slices stay convex
+        inside = (levels >= black_l) & (levels <= white_l)
+        cmax[:, inside] = _smooth_hue(np.maximum(cmax[:, inside], 0.0), HUE_SMOOTHING_BINS)
         cmax[:, levels < black_l] = np.minimum(cmax[:, levels < black_l], -1.0)
         cmax[:, (levels >= black_l) & (levels <= white_l)] = np.maximum(
             cmax[:, (levels >= black_l) & (levels <= white_l)], 0.0)
         best = np.argmax(cmax, axis=1)
-        return cls(centres, levels, cmax, float(white_l), black_l, levels[best],
+        return cls(centres, levels, cmax, float(white_l), black_l,
+                   _smooth_hue(levels[best][:, None], 2 * HUE_SMOOTHING_BINS)[:, 0],
                    cmax[np.arange(HUE_BINS), best])
+
+    def refined(self, printed_of) -> "GamutBoundary":
+        """The boundary checked against the print: targets on it (every slice, every
+        `REFINE_STEP_L` of L*) are separated by `printed_of` (CIELAB [N, 3] → the closest printed
+        CIELAB [N, 3]); where the print falls short — the hull spans a concave part of the
+        gamut — C_max is scaled by the chroma reached (projected on the slice) over the chroma
+        asked, the ratios smoothed across hue and interpolated in L*."""
+        Ls = np.arange(self.black_l + REFINE_STEP_L / 2, self.white_l - REFINE_STEP_L / 4, REFINE_STEP_L)
+        if Ls.size < 2:
+            return self
+        hh, LL = np.meshgrid(self.hue_deg, Ls, indexing="ij")
+        C = self.chroma_max(hh, LL)
+        asked = C > 1.0
+        ratio = np.ones_like(C)
+        if asked.any():
+            Lp, Cp, hp = to_lch(printed_of(from_lch(LL[asked], C[asked], hh[asked])))
+            reached = Cp * np.cos(np.radians(hp - hh[asked]))
+            ratio[asked] = np.clip(reached / C[asked], 0.0, 1.0)
+        ratio = _smooth_hue(ratio, HUE_SMOOTHING_BINS)
+        scale = np.stack([np.interp(self.lightness, Ls, r) for r in ratio])
+        cmax = np.where(self.cmax >= 0.0, self.cmax * scale, self.cmax)
+        best = np.argmax(cmax, axis=1)
+        return GamutBoundary(self.hue_deg, self.lightness, cmax, self.white_l, self.black_l,
+                             _smooth_hue(self.lightness[best][:, None], 2 * HUE_SMOOTHING_BINS)[:, 0],
+                             cmax[np.arange(HUE_BINS), best])
 
     def _hue_weights(self, h_deg):
         width = 360.0 / HUE_BINS
@@ -182,18 +241,19 @@ class GamutBoundary:
         u = x - j0
         row = lambda i: self.cmax[i, j0] * (1 - u) + self.cmax[i, j0 + 1] * u      # noqa: E731
         out = row(i0) * (1 - t) + row(i1) * t
-        return np.where((np.asarray(L) < self.black_l) | (np.asarray(L) > self.white_l), -1.0, out)
+        # the neutral axis from black to white is printable (a level on either side may not be)
+        return np.where((np.asarray(L) < self.black_l) | (np.asarray(L) > self.white_l), -1.0, np.maximum(out, 0.0))
 
     def contains(self, lab) -> np.ndarray:
         L, C, h = to_lch(lab)
-        return C <= self.chroma_max(h, L)
+        return C <= self.chroma_max(h, L) + 1e-9
 
     def lightness_map(self, L) -> np.ndarray:
         """Black-point compensation: L* 0…100 → black_l…white_l (linear)."""
         return self.black_l + np.asarray(L, dtype=np.float64) * (self.white_l - self.black_l) / 100.0
 
     def lightness_unmap(self, L) -> np.ndarray:
-        return (np.asarray(L, dtype=np.float64) - self.black_l) * 100.0 / (self.white_l - self.black_l)
+        return (np.asarray(L, dtype=np.float64) - self.black_l) * 100.0 / max(self.white_l - self.black_l, 1e-9)
 
 
 def _ray_exit(inside, n: int) -> np.ndarray:
@@ -239,7 +299,7 @@ def map_to_gamut(lab, boundary: GamutBoundary, settings: GamutSettings = GamutSe
     ul = np.where(moving, vl / np.where(moving, d, 1.0), 1.0)
 
     def in_print(s):
-        return (C_at(s) <= boundary.chroma_max(h, F + s * ul))
+        return C_at(s) <= boundary.chroma_max(h, F + s * ul) + 1e-9      # round-off chroma of a neutral
 
     def C_at(s):
         return s * uc

@@ -16,6 +16,8 @@ from solver.printing import PrintedInks, stack_order
 from solver.table.request import LAYER_SEPARATOR, table_request
 
 MAX_INKS = 4
+#: the inks `python -m inkbsdf.print` prints with unless told (printing order)
+DEFAULT_INKS = ("R30", "Y30", "B30")
 
 
 class InkListError(ValueError):

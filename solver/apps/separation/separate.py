@@ -18,7 +18,7 @@ error against the direct separation.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -56,10 +56,20 @@ class Separator:
             raise ValueError(f"gamut mapping must be one of {', '.join(MAPPINGS)}; got {mapping!r}")
         if lut_nodes != 0 and not 2 <= lut_nodes <= 129:
             raise ValueError(f"lut_nodes must be 0 (no table) or in [2, 129], got {lut_nodes}")
-        boundary = GamutBoundary.build(model, rule.tac)
-        objective = InkingObjective.build(model, black, rule, boundary)
+        hull = GamutBoundary.build(model, rule.tac)
+        objective = InkingObjective.build(model, black, rule, hull)
         grid = CoverageGrid.build(objective, solver.nodes(model.n_inks))
+        boundary = hull.refined(lambda lab: separate_lab(model, lab, solver, grid, objective=objective).printed_lab)
+        objective = replace(objective, boundary=boundary)
         return cls(model, objective, boundary, grid, mapping, gamut, solver, lut_nodes)
+
+    def with_rule(self, rule: BlackGeneration) -> "Separator":
+        """The same print with another black rule (its gamut and start grid kept when the
+        total area coverage limit is the same)."""
+        if rule.tac != self.objective.rule.tac:
+            return Separator.build(self.model, self.objective.black, rule, self.mapping, self.gamut, self.solver,
+                                   self.lut_nodes)
+        return replace(self, objective=replace(self.objective, rule=rule))
 
     def targets(self, source_lab) -> np.ndarray:
         """The colours to print of source colours (CIELAB of sRGB): gamut-mapped or as they are."""

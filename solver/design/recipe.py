@@ -1,0 +1,121 @@
+"""An ink recipe (pigment loads, layer thickness, particles) and the free parameters a design
+varies, with their bounds: the one home of the design's defaults (docs/printing.md).
+
+Loads are volume fractions inside (percent at the CLI), thicknesses in nm.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..inks import Ink, InkSpecError, parse_ink
+from ..table.request import DEFAULT_THICKNESS_NM
+
+#: a pigment load's range (volume fraction): the paper's heaviest inks carry 50 %
+LOAD_RANGE = (0.0, 0.5)
+#: a printed layer's thickness range (nm): offset ink films are about 1 µm (0.5–2 µm)
+THICKNESS_RANGE_NM = (500.0, 2000.0)
+#: the paper albedo's range when the paper white is designed
+PAPER_RANGE = (0.5, 1.0)
+#: the pigments each process colour is made of. Black is toned: carbon alone is brown
+#: (its k falls from 0.91 at 380 nm to 0.70 at 780 nm, and α = 4πk/λ falls faster), and ink
+#: makers tone carbon black with blue; here with the process cyan and magenta pigments.
+#: Magenta is shaded with a little cyan pigment: Rhodamine 6G alone, with its local field in
+#: the binder, is a red-shaded magenta (b* ≈ +15 at the aim's a*; docs/printing.md).
+PROCESS_PIGMENTS = {"cyan": ("C",), "magenta": ("M", "C"), "yellow": ("Y",), "black": ("K", "C", "M")}
+
+
+class DesignError(ValueError):
+    """Free parameters that cannot be designed; the message names the option."""
+
+
+@dataclass(frozen=True)
+class Recipe:
+    """One ink: pigment loads ((code, fraction), …), layer thickness (nm), particles spec."""
+
+    loads: tuple[tuple[str, float], ...]
+    thickness_nm: float
+    particles: str = "molecular"
+
+    @property
+    def ink(self) -> Ink:
+        return Ink(tuple((c, float(f)) for c, f in self.loads if f > 0.0))
+
+    @property
+    def label(self) -> str:
+        """'C11.6@812nm' (loads rounded to 0.01 %, thickness to 1 nm)."""
+        ink = Ink(tuple((c, round(f, 4)) for c, f in self.loads if round(f, 4) > 0.0))
+        text = f"{ink.label}@{self.thickness_nm:.0f}nm"
+        return text if self.particles == "molecular" else f"{text} {self.particles}"
+
+    def to_json(self) -> dict:
+        return {"ink": Ink(tuple((c, round(f, 6)) for c, f in self.loads if f > 0.0)).label,
+                "loads_percent": {c: round(100.0 * f, 4) for c, f in self.loads},
+                "thickness_nm": round(float(self.thickness_nm), 2), "particles": self.particles}
+
+
+@dataclass(frozen=True)
+class InkTemplate:
+    """The free parameters of an ink design: one load per pigment, and the layer thickness
+    (free within its range, or fixed when the range is one value)."""
+
+    pigments: tuple[str, ...]
+    load_range: tuple[float, float] = LOAD_RANGE
+    thickness_range_nm: tuple[float, float] = THICKNESS_RANGE_NM
+    particles: str = "molecular"
+
+    def __post_init__(self):
+        lo, hi = self.load_range
+        if not (0.0 <= lo < hi <= 1.0):
+            raise DesignError(f"--load-range {100 * lo:g},{100 * hi:g}: need 0 ≤ MIN < MAX ≤ 100 (percent)")
+        tlo, thi = self.thickness_range_nm
+        if not (0.0 < tlo <= thi):
+            raise DesignError(f"--thickness-range {tlo:g},{thi:g}: need 0 < MIN ≤ MAX (nm)")
+        if lo * len(self.pigments) > 1.0:
+            raise DesignError("--load-range: the pigments' least loads already exceed 100 %")
+
+    @classmethod
+    def of(cls, pigments: str, **kw) -> "InkTemplate":
+        """From a pigment list 'K+C+M' (letters of the ink grammar, solver.inks)."""
+        text = str(pigments).strip()
+        try:
+            ink = parse_ink("+".join(f"{code.strip()}1" for code in text.split("+")))
+        except InkSpecError as exc:
+            raise DesignError(f"--pigments {text!r}: {exc}") from None
+        return cls(tuple(code for code, _ in ink.components), **kw)
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        """The free parameters' names, in the order of `bounds`."""
+        return tuple(f"load {c}" for c in self.pigments) + (("thickness_nm",) if self.thickness_free else ())
+
+    @property
+    def thickness_free(self) -> bool:
+        return self.thickness_range_nm[1] > self.thickness_range_nm[0]
+
+    def bounds(self) -> np.ndarray:
+        """[n, 2] lower and upper bounds of the free parameters (fractions, nm)."""
+        rows = [self.load_range] * len(self.pigments)
+        if self.thickness_free:
+            rows.append(self.thickness_range_nm)
+        return np.array(rows, dtype=float)
+
+    def recipe(self, x) -> Recipe:
+        x = np.asarray(x, dtype=float)
+        loads = tuple((c, float(f)) for c, f in zip(self.pigments, x))
+        thickness = float(x[len(self.pigments)]) if self.thickness_free else self.thickness_range_nm[0]
+        return Recipe(loads, thickness, self.particles)
+
+    def start(self) -> np.ndarray:
+        """A feasible middle point: loads at a tenth of their range, thickness 1 µm if allowed."""
+        b = self.bounds()
+        x = b[:, 0] + 0.1 * (b[:, 1] - b[:, 0])
+        if self.thickness_free:
+            x[-1] = float(np.clip(DEFAULT_THICKNESS_NM, *self.thickness_range_nm))
+        return x
+
+    def feasible(self, x) -> bool:
+        """The total load stays within 100 %."""
+        return float(np.sum(np.asarray(x)[:len(self.pigments)])) <= 1.0

@@ -1,0 +1,263 @@
+"""Separation like a press (solver.apps.separation): the print model under the 45:0 D50
+measurement, perceptual gamut mapping (smooth ramps stay monotone in L*, no notch), black
+generation with a total area coverage limit, the 3-D separation table, the CGATS
+characterisation chart (read back by the test's own CGATS reader)."""
+
+import numpy as np
+import pytest
+
+from solver.apps.separation import (BlackGeneration, GamutBoundary, GamutSettings, PrintColourModel, SeparationLUT,
+                                   Separator, delta_e2000, map_to_gamut, printed_inks, separate_lab, srgb8_to_lab)
+from solver.apps.separation.black import InkingObjective, black_index, find_black
+from solver.colour.measurement import DEFAULT, parse_measurement
+
+RYB = ("R30", "Y30", "B30")
+RYBK = ("R30", "Y30", "B30", "R15+Y15+B15")       # a composite black stands in for K in the tests
+
+
+@pytest.fixture(scope="module")
+def ryb():
+    return PrintColourModel.build(printed_inks(RYB), 0.9, "clapper-yule")
+
+
+@pytest.fixture(scope="module")
+def rybk():
+    return PrintColourModel.build(printed_inks(RYBK), 0.9, "clapper-yule")
+
+
+@pytest.fixture(scope="module")
+def ryb_boundary(ryb):
+    return GamutBoundary.build(ryb, 3.0)
+
+
+@pytest.fixture(scope="module")
+def ryb_separator(ryb):
+    return Separator.build(ryb)
+
+
+@pytest.fixture(scope="module")
+def rybk_separator(rybk):
+    return Separator.build(rybk, black=black_index(rybk, RYBK, None))
+
+
+# ------------------------------------------------------------------ the print model at 45:0
+@pytest.mark.parametrize("coverage_model", ["clapper-yule", "murray-davies"])
+def test_solids_are_the_measurement_of_their_tables(coverage_model):
+    """A solid (one primary at full area) is that primary's table measured at 45:0 D50 by
+    solver.colour.measurement (its own code: reflectance factor of one table on paper)."""
+    printed = printed_inks(RYB)
+    model = PrintColourModel.build(printed, 0.9, coverage_model, intent="absolute")
+    for i, table in enumerate(printed.inks):
+        np.testing.assert_allclose(model.lab(np.eye(3)[i]), DEFAULT.lab(table, 0.9), atol=1e-9)
+    np.testing.assert_allclose(model.lab(np.ones(3)), DEFAULT.lab(printed.stacks[(0, 1, 2)], 0.9), atol=1e-9)
+    assert model.measurement.label == "45:0/D50/2°"
+
+
+def test_45_0_excludes_the_gloss_that_d0_sees():
+    """The mirror term is a grey floor under d:0: the same dark overprint is darker at 45:0."""
+    printed = printed_inks(RYB)
+    dark_45 = PrintColourModel.build(printed, 0.9, intent="absolute").lab(np.ones(3))[0]
+    dark_d0 = PrintColourModel.build(printed, 0.9, intent="absolute",
+                                     measurement=parse_measurement("d:0", "D50")).lab(np.ones(3))[0]
+    assert dark_45 < dark_d0 - 10.0
+
+
+# ------------------------------------------------------------------ gamut mapping
+def _ramp(a, b, n=64):
+    t = np.linspace(0.0, 1.0, n)[:, None]
+    return np.round(np.asarray(a, float) * (1 - t) + np.asarray(b, float) * t)
+
+
+RAMPS = {"blue→white": ((0, 0, 255), (255, 255, 255)), "black→dark blue": ((0, 0, 0), (0, 0, 128)),
+         "black→grey": ((0, 0, 0), (96, 96, 96)), "green→black": ((0, 255, 0), (0, 0, 0)),
+         "red→white": ((255, 0, 0), (255, 255, 255))}
+L_TOLERANCE = 0.02          # L* (a fiftieth of a just-noticeable difference)
+
+
+def _step_spike(printed_lab, source_lab) -> float:
+    """Largest ratio of a printed step (ΔE2000 between neighbours) to the median over its ±4
+    neighbours, each step relative to the source's own step: a notch is one step far larger than
+    its neighbours; a smooth compression changes the steps slowly."""
+    st = delta_e2000(printed_lab[1:], printed_lab[:-1]) / np.maximum(delta_e2000(source_lab[1:], source_lab[:-1]), 1e-9)
+    local = np.array([np.median(st[max(0, i - 4):i + 5]) for i in range(st.size)])
+    return float(np.max(st / np.maximum(local, 1e-12)))
+
+
+@pytest.mark.parametrize("name", list(RAMPS))
+@pytest.mark.parametrize("inks", ["ryb", "rybk"])
+def test_ramps_stay_monotone_and_smooth(name, inks, ryb_separator, rybk_separator):
+    """A smooth ramp (monotone in L*) is monotone in L* after gamut mapping and separation, the
+    print matches the mapped colours, and no step spikes against its neighbours (a notch from
+    nearest-colour clipping does: the clip test below)."""
+    sep_ = ryb_separator if inks == "ryb" else rybk_separator
+    source = srgb8_to_lab(_ramp(*RAMPS[name]))
+    assert np.all(np.diff(source[:, 0]) > 0) or np.all(np.diff(source[:, 0]) < 0)
+    sep, _ = sep_.separate_srgb(_ramp(*RAMPS[name]) / 255.0)
+    L = sep.printed_lab[:, 0]
+    sign = np.sign(source[-1, 0] - source[0, 0])
+    assert np.min(sign * np.diff(L)) > -L_TOLERANCE, (name, np.diff(L).min())
+    assert sep.delta_e76.max() < 3.0, name                      # concave corners of the gamut: closest colour
+    assert _step_spike(sep.printed_lab, source) < 3.0, name
+
+
+def test_clipping_makes_the_notch_that_mapping_avoids(ryb, ryb_separator):
+    """The blue→white ramp clipped to the closest printable colour (the old separation) has a
+    spike in its steps; the perceptual mapping has none."""
+    source = srgb8_to_lab(_ramp(*RAMPS["blue→white"]))
+    clipped = separate_lab(ryb, source)
+    mapped, _ = ryb_separator.separate_srgb(_ramp(*RAMPS["blue→white"]) / 255.0)
+    assert _step_spike(clipped.printed_lab, source) > 2 * _step_spike(mapped.printed_lab, source)
+
+
+def test_mapping_keeps_hue_and_lands_inside(ryb_boundary):
+    """Hue is unchanged (away from the neutral axis); every mapped colour lies in the print's
+    gamut; neutrals map by black-point compensation alone."""
+    rng = np.random.default_rng(4)
+    src = srgb8_to_lab(rng.integers(0, 256, (3000, 3)))
+    out = map_to_gamut(src, ryb_boundary)
+    assert ryb_boundary.contains(out).all()
+    chroma = np.hypot(src[:, 1], src[:, 2])
+    keep = (chroma > 5) & (np.hypot(out[:, 1], out[:, 2]) > 1)
+    dh = (np.degrees(np.arctan2(out[keep, 2], out[keep, 1]) - np.arctan2(src[keep, 2], src[keep, 1])) + 180) % 360 - 180
+    assert np.abs(dh).max() < 1e-6
+    grey = srgb8_to_lab(np.repeat(np.arange(0, 256, 15)[:, None], 3, 1))
+    np.testing.assert_allclose(map_to_gamut(grey, ryb_boundary)[:, 0], ryb_boundary.lightness_map(grey[:, 0]), atol=2e-3)
+
+
+def test_colours_well_inside_are_left_alone(ryb, ryb_boundary):
+    """Printable colours of mid lightness near the neutral axis (well within the knee) are
+    printed as they are."""
+    from solver.apps.separation.gamut import to_lch
+
+    rng = np.random.default_rng(8)
+    lab = ryb.lab(rng.uniform(0.0, 0.6, (4000, 3)))
+    L, C, h = to_lch(lab)
+    lab = lab[(L > 30) & (L < 70) & (C < 0.3 * ryb_boundary.chroma_max(h, L))][:200]
+    assert len(lab) >= 50
+    src = lab.copy()
+    src[:, 0] = ryb_boundary.lightness_unmap(lab[:, 0])                  # undo the L* compression
+    np.testing.assert_allclose(map_to_gamut(src, ryb_boundary, GamutSettings(knee=0.8)), lab, atol=1e-6)
+
+
+# ------------------------------------------------------------------ black generation and TAC
+def test_black_found_and_named(ryb, rybk):
+    assert find_black(ryb) is None and find_black(rybk) == 3
+    assert black_index(rybk, RYBK, "none") is None and black_index(rybk, RYBK, "R30") == 0
+    with pytest.raises(ValueError, match="not one of the inks"):
+        black_index(rybk, RYBK, "K100")
+
+
+def test_gcr_puts_black_in_greys_and_respects_the_tac(rybk, rybk_separator):
+    """Neutral ramp: more black the darker (K rises monotonically past the black start), less
+    chromatic ink than without black (strength 0), the colour matched; random colours never
+    exceed the total area coverage limit."""
+    black = 3
+    results = {}
+    for strength in (0.0, 0.7, 1.0):
+        sep_ = rybk_separator.with_rule(BlackGeneration(strength=strength))
+        results[strength] = sep_.separate_srgb(np.repeat(np.linspace(0, 1, 18)[:, None], 3, 1))[0]
+    k = results[0.7].coverages[:, black]
+    assert np.all(np.diff(k) <= 1e-6) and k[0] > 0.5 and k[-1] < 1e-3          # white → no black
+    assert results[0.0].coverages[:, black].max() < k.max()
+    cmy = lambda r: r.coverages[:, :3].sum(axis=1)                              # noqa: E731
+    assert np.all(cmy(results[1.0]) <= cmy(results[0.0]) + 1e-3)
+    assert cmy(results[1.0])[2] < 0.7 * cmy(results[0.0])[2]
+    for r in results.values():
+        assert r.coverages.sum(axis=1).max() <= 3.0 + 1e-9
+        assert np.median(r.delta_e76) < 1e-2
+    rng = np.random.default_rng(1)
+    sep_ = rybk_separator.with_rule(BlackGeneration(tac=2.4))
+    sep, _ = sep_.separate_srgb(rng.random((300, 3)))
+    assert sep.coverages.sum(axis=1).max() <= 2.4 + 1e-9
+
+
+def test_black_aim_rules():
+    rule = BlackGeneration(strength=0.8, start=0.25)
+    kn = np.linspace(0, 1, 101)
+    aim = rule.aim(kn, np.ones_like(kn))
+    assert np.all(aim[kn <= 0.25] == 0) and np.all(np.diff(aim) >= 0) and aim[-1] == pytest.approx(0.8)
+    assert np.all(rule.aim(kn, np.full_like(kn, 0.5)) <= aim)
+    ucr = BlackGeneration("ucr", strength=0.8, start=0.25)
+    assert ucr.aim(np.array([0.9]), np.array([0.7]))[0] < rule.aim(np.array([0.9]), np.array([0.7]))[0]
+    for bad in (dict(mode="max"), dict(strength=1.5), dict(start=1.0), dict(tac=4.5)):
+        with pytest.raises(ValueError):
+            BlackGeneration(**bad)
+
+
+def test_objective_k_neutral_inverts_the_black_ramp(rybk):
+    obj = InkingObjective.build(rybk, 3)
+    k = np.linspace(0, 1, 11)
+    c = np.zeros((11, 4))
+    c[:, 3] = k
+    np.testing.assert_allclose(obj.k_neutral(rybk.lab(c)[:, 0]), k, atol=2e-3)
+
+
+# ------------------------------------------------------------------ the separation table
+def test_tetrahedral_lut_is_exact_on_linear_tables():
+    """Tetrahedral interpolation reproduces any affine function of the colour exactly (its
+    defining property), and the table's nodes exactly."""
+    n = 5
+    axis = np.linspace(0, 1, n)
+    rgb = np.stack(np.meshgrid(axis, axis, axis, indexing="ij"), -1)
+    A = np.array([[0.3, -0.2, 0.1, 0.05], [0.1, 0.4, -0.3, 0.2], [-0.25, 0.15, 0.5, 0.1]])
+    lut = SeparationLUT(n, rgb @ A + 0.1)
+    x = np.random.default_rng(0).random((1000, 3))
+    np.testing.assert_allclose(lut(x), x @ A + 0.1, atol=1e-12)
+    np.testing.assert_allclose(lut(rgb.reshape(-1, 3)), (rgb @ A + 0.1).reshape(-1, 4), atol=1e-12)
+
+
+def test_lut_error_against_direct_separation(ryb, ryb_separator):
+    """A 17³ table against separating every colour: printed ΔE2000 small on random colours."""
+    sep_ = ryb_separator
+    lut, _ = SeparationLUT.build(sep_, 17)
+    x = np.random.default_rng(3).random((400, 3))
+    direct, _ = sep_.separate_srgb(x)
+    de = delta_e2000(ryb.lab(lut(x)), direct.printed_lab)
+    assert np.median(de) < 0.5 and np.percentile(de, 95) < 2.0
+
+
+# ------------------------------------------------------------------ characterisation (CGATS)
+def read_cgats(text: str):
+    """The test's own CGATS.17 reader: (keywords, field names, rows of strings)."""
+    lines = [ln for ln in text.splitlines() if ln.strip() and not ln.startswith("#")]
+    assert lines[0].startswith("CGATS")
+    keywords, fields, rows, section = {}, None, [], None
+    for ln in lines[1:]:
+        word = ln.split()[0]
+        if word in ("BEGIN_DATA_FORMAT", "BEGIN_DATA"):
+            section = word
+        elif word in ("END_DATA_FORMAT", "END_DATA"):
+            section = None
+        elif section == "BEGIN_DATA_FORMAT":
+            fields = ln.split()
+        elif section == "BEGIN_DATA":
+            rows.append(ln.split())
+        else:
+            key, _, value = ln.partition("\t")
+            keywords[key] = value.strip().strip('"')
+    return keywords, fields, rows
+
+
+def test_characterisation_chart_parses(rybk):
+    from solver.apps.separation.characterisation import characterisation_text, process_order
+
+    text = characterisation_text(rybk, RYBK, black=3, created="2026-01-01T00:00:00Z")
+    keywords, fields, rows = read_cgats(text)
+    assert fields == ["SAMPLE_ID", "CMYK_C", "CMYK_M", "CMYK_Y", "CMYK_K", "XYZ_X", "XYZ_Y", "XYZ_Z",
+                      "LAB_L", "LAB_A", "LAB_B"]
+    assert int(keywords["NUMBER_OF_FIELDS"]) == len(fields) and int(keywords["NUMBER_OF_SETS"]) == len(rows)
+    assert "Illumination=D50" in keywords["MEASUREMENT_SOURCE"] and "WhiteBase=Abs" in keywords["MEASUREMENT_SOURCE"]
+    data = np.array([[float(v) for v in r] for r in rows])
+    assert len(rows) > 1300 and all(len(r) == len(fields) for r in rows)
+    assert len({tuple(r[1:5]) for r in rows}) == len(rows)                      # distinct patches
+    order = process_order(rybk, RYBK, 3)
+    assert order == [2, 0, 1, 3]                                    # B30 plays cyan, R30 magenta, Y30 yellow
+    paper = data[(data[:, 1:5] == 0).all(axis=1)][0]
+    np.testing.assert_allclose(paper[8:11], rybk.absolute_lab(np.zeros(4)), atol=1e-3)
+    k_ramp = data[(data[:, 1:4] == 0).all(axis=1)]
+    k_ramp = k_ramp[np.argsort(k_ramp[:, 4])]
+    assert np.all(np.diff(k_ramp[:, 8]) < 0)                        # more black, darker
+    # XYZ and Lab agree (CIE 15 formulae, the white being the perfect diffuser of D50)
+    import colour
+    white = colour.XYZ_to_xy(rybk.absolute_white_xyz)
+    np.testing.assert_allclose(colour.XYZ_to_Lab(data[:, 5:8] / 100.0, white), data[:, 8:11], atol=1e-2)  # 4 decimals
