@@ -155,9 +155,9 @@ def test_interrupts_at_random_moments_under_load_exit_promptly_and_leave_nothing
     no temp file, no output, no process (benchmarks/bench_interrupts.py runs 50)."""
     from benchmarks.bench_interrupts import stress
 
-    outcomes = stress(6, seed=1, latest_s=4.0, load=2, folder=tmp_path)
+    outcomes = stress(5, seed=1, latest_s=3.5, load=2, folder=tmp_path)
     hit = [o for o in outcomes if not o.finished_first]
-    assert len(hit) >= 4 and {o.signal for o in hit} == {signal.SIGINT, signal.SIGTERM}
+    assert len(hit) >= 3 and {o.signal for o in hit} == {signal.SIGINT, signal.SIGTERM}
     assert not [o.problems() for o in hit if o.problems()]
 
 

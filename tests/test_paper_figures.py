@@ -38,10 +38,23 @@ def read_rows(path) -> list[dict]:
         return list(csv.DictReader(fh))
 
 
+def overridden(base, extra) -> list:
+    """The options of `base` that `extra` does not give, then `extra` (an option given twice is
+    refused; every value after an option up to the next option is its own)."""
+    groups, given = [], {a for a in extra if str(a).startswith("--")}
+    for arg in base:
+        if str(arg).startswith("--") or not groups:
+            groups.append([arg])
+        else:
+            groups[-1].append(arg)
+    return [a for g in groups if g[0] not in given for a in g] + list(extra)
+
+
 def run_fig7(tmp_path, out_name="f.png", extra=(), status=0):
     out = tmp_path / out_name
-    code = main(["paper", "fig7", "--rows", ROWS, "--columns", COLUMNS, "--cache", str(tmp_path / "cache"),
-                 "-o", str(out), *TINY, *extra])
+    code = main(["paper", "fig7", "-o", str(out),
+                 *overridden(["--rows", ROWS, "--columns", COLUMNS, "--cache", str(tmp_path / "cache"), *TINY],
+                             extra)])
     assert code == status
     return out
 
@@ -87,8 +100,9 @@ def test_the_papers_model_one_option_away(tmp_path):
     (["--wavelengths", "450:650:100"], "wavelengths 450–650 nm; a colour needs at least 400–700 nm"),
 ])
 def test_measurement_refused_before_any_work(tmp_path, capsys, argv, message):
-    code = main(["paper", "fig7", "--rows", ROWS, "--columns", "molecular,sphere:300", "--cache", str(tmp_path / "cache"),
-                 "-o", str(tmp_path / "f.png"), *TINY, *argv])
+    code = main(["paper", "fig7", "-o", str(tmp_path / "f.png"),
+                 *overridden(["--rows", ROWS, "--columns", "molecular,sphere:300", "--cache", str(tmp_path / "cache"),
+                              *TINY], argv)])
     err = capsys.readouterr().err
     assert code == 2 and message in err and err.count("\n") == 1
     assert not (tmp_path / "cache" / "tables").exists() or not any((tmp_path / "cache" / "tables").iterdir())

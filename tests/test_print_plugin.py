@@ -56,19 +56,33 @@ def test_single_ink_matches_numpy_model(use_variant, tables, model, ink, coverag
         np.testing.assert_allclose(quadrature_albedo(mi, bsdf, deg, LAMBDAS), want, rtol=5e-4, atol=1e-5)
 
 
-@pytest.mark.parametrize("model", [CY, MD])
-def test_three_overlapping_inks_match_numpy_model(use_variant, tables, model):
+def constant_bitmap(mi, value):
+    """A spatially varying texture (a bitmap) that has `value` everywhere."""
+    return {"type": "bitmap", "data": mi.TensorXf(np.full((2, 2, 1), value, dtype=np.float32)), "raw": True}
+
+
+@pytest.mark.parametrize("model,textured,cov", [(CY, False, [0.5, 0.4, 0.6]), (CY, True, [0.5, 0.4, 0.6]),
+                                               (MD, False, [0.5, 0.4, 0.6]), (MD, True, [0.5, 0.4, 0.6]),
+                                               (CY, True, [1.0, 0.0, 1.0]), (MD, True, [1.0, 0.0, 1.0])])
+def test_three_overlapping_inks_match_numpy_model(use_variant, tables, model, textured, cov):
     """R30, a diffuse ink and B30 at 50/40/60 %: all eight primaries, overprints from the provider
-    (asked top first, once each); eval, delta lobe and albedo equal the NumPy model."""
+    (asked top first, once each); eval, delta lobe and albedo equal the NumPy model. Coverages
+    as numbers (Clapper–Yule: one premixed table, `inkbsdf.premix`; Murray–Davies: one lookup
+    per primary, in a loop) and as bitmaps (a loop over each lane's primaries of weight > 0,
+    `inkbsdf.mixing.LoopedPrint`; with coverages 1, 0, 1 only the stack of inks 1 and 3)."""
     mi = use_variant("llvm_ad_spectral")
     from inkbsdf.inks import stack_provider
 
     paths = (tables["R30"], tables["diffuse"], tables["B30"])
-    cov = [0.5, 0.4, 0.6]
+    from inkbsdf.mixing import LoopedPrint
+
     provider = StackProvider()
     with stack_provider(provider):
-        bsdf = load(mi, paths, cov, model)
-    assert sorted(provider.calls) == sorted([(2, 1), (3, 1), (3, 2), (3, 2, 1)])
+        bsdf = load(mi, paths, [constant_bitmap(mi, c) for c in cov] if textured else cov, model)
+    assert (bsdf.premixed is not None) == (model == CY and not textured)
+    assert isinstance(bsdf._lane_model()[0], LoopedPrint) == (bsdf.premixed is None)
+    if cov[1] > 0:
+        assert sorted(provider.calls) == sorted([(2, 1), (3, 1), (3, 2), (3, 2, 1)])
     printed = reference(paths)
     rng = np.random.default_rng(2)
     wi, wo = directions(rng, N_LANES), directions(rng, N_LANES)
