@@ -79,15 +79,19 @@ def find_black(model) -> int | None:
 def black_index(model, inks, black_spec: str | None) -> int | None:
     """The black ink's index: `black_spec` (an ink of `inks`, or 'none'), else the ink whose
     pigment is K, else `find_black`."""
+    from solver.inks import parse_ink
+
+    from .printset import split_ink
+
+    specs = [split_ink(x)[0] for x in inks]
     if black_spec is not None:
         if black_spec == "none":
             return None
-        if black_spec not in inks:
+        spec = split_ink(black_spec)[0]
+        if spec not in specs:
             raise ValueError(f"black ink {black_spec!r} is not one of the inks ({', '.join(inks)})")
-        return inks.index(black_spec)
-    from solver.inks import parse_ink
-
-    for i, spec in enumerate(inks):
+        return specs.index(spec)
+    for i, spec in enumerate(specs):
         if [code for code, _ in parse_ink(spec).components] == ["K"]:
             return i
     return find_black(model)

@@ -60,10 +60,12 @@ def process_order(model, inks, black: int) -> list[int]:
     """Indices of the inks playing C, M, Y, K (module docstring)."""
     from solver.inks import parse_ink
 
+    from .printset import split_ink
+
     chromatic = [i for i in range(len(inks)) if i != black]
     letters = {}
     for i in chromatic:
-        codes = [code for code, _ in parse_ink(inks[i]).components]
+        codes = [code for code, _ in parse_ink(split_ink(inks[i])[0]).components]
         if len(codes) == 1 and codes[0] in PROCESS_HUES_DEG:
             letters[codes[0]] = i
     if len(letters) == 3:

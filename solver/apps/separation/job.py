@@ -117,7 +117,7 @@ def build_separator(settings: PrintSettings, printed: PrintedInks) -> Separator:
 
 def texture_name(stem: str, index: int, ink: str) -> str:
     """File name of ink `index` (0-based) of a print: '<stem>_<n>_<ink>.png'."""
-    return f"{stem}_{index + 1}_{ink.replace('+', '_').replace('.', 'p')}.png"
+    return f"{stem}_{index + 1}_{ink.replace('+', '_').replace('.', 'p').replace('@', '_')}.png"
 
 
 def write_textures(result: PrintedImage, folder, stem: str) -> list[Path]:
