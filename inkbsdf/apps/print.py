@@ -1,8 +1,8 @@
 """Print an image with the project's inks: colour separation, halftoning, and a scene of the
 printed page.
 
-    python -m inkbsdf.print IMAGE [--inks R30,Y30,B30] [--coverage-model auto|clapper-yule|murray-davies]
-        [--dots AM:150|FM|none] [--dpi N] [--paper 0.9] [--size WxH] [--intent relative|absolute]
+    python -m inkbsdf.print IMAGE [--inks process|R30,Y30,B30|C8.7@533,…] [--coverage-model auto|clapper-yule|murray-davies]
+        [--dots AM:150|FM|none] [--dpi N] [--paper ALBEDO] [--size WxH] [--intent relative|absolute]
         [--black gcr|ucr] [--black-strength 0.7] [--black-start 0.2] [--tac 300] [--black-ink SPEC|none]
         [--gamut perceptual|clip] [--lut 33] [--characterisation OUT.txt] -o page.xml
     python -m inkbsdf.print --characterisation OUT.txt [--inks …]     (the chart only)
@@ -96,7 +96,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help=f"texture resolution, texels per inch (default: one per image pixel for --dots none, "
                         f"{ht.AM_TEXELS_PER_CELL} per screen period for AM, {ht.FM_DPI:g} for FM; at least "
                         f"{ht.AM_MIN_TEXELS_PER_CELL} per screen period for AM, {ht.FM_MIN_DPI:g} for FM)")
-    p.add_argument("--paper", type=float, default=PAPER_ALBEDO, help="paper albedo in [0, 1]")
+    p.add_argument("--paper", type=float, default=None,
+                   help=f"paper albedo in [0, 1] (default: the process inks' paper for --inks process, else {PAPER_ALBEDO:g})")
     p.add_argument("--size", default="12", help="print size in cm: WIDTHxHEIGHT, or WIDTH (height from the image)")
     p.add_argument("--intent", default="relative", choices=INTENTS,
                    help="relative: the image's white prints as the paper; absolute: CIELAB against a perfect white")
@@ -116,7 +117,8 @@ def settings_from(args):
     except (InkListError, DotsError) as exc:
         raise UsageError(f"--{exc}") from None          # messages start with the option's name
     try:
-        check_paper_albedo(args.paper, what="--paper: the paper albedo")
+        if args.paper is not None:
+            check_paper_albedo(args.paper, what="--paper: the paper albedo")
     except ValueError as exc:
         raise UsageError(str(exc)) from None
     if args.dpi is not None and not 1.0 <= args.dpi <= 20000.0:

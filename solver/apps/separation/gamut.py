@@ -222,6 +222,22 @@ class GamutBoundary:
                              _smooth_hue(self.lightness[best][:, None], 2 * HUE_SMOOTHING_BINS)[:, 0],
                              cmax[np.arange(HUE_BINS), best])
 
+    def with_black(self, black_l: float) -> "GamutBoundary":
+        """The boundary with its black raised to `black_l` (what the separation reaches): the
+        slices' profiles stretched in L* from black…white onto the new black…white (a cut
+        would leave a flat floor with a corner)."""
+        if black_l <= self.black_l or black_l >= self.white_l:
+            return self
+        from dataclasses import replace
+
+        old = self.black_l + (self.lightness - black_l) * (self.white_l - self.black_l) / (self.white_l - black_l)
+        cmax = np.stack([np.interp(old, self.lightness, row) for row in self.cmax])
+        cmax[:, self.lightness < black_l] = np.minimum(cmax[:, self.lightness < black_l], -1.0)
+        best = np.argmax(cmax, axis=1)
+        return replace(self, cmax=cmax, black_l=float(black_l),
+                       cusp_l=_smooth_hue(self.lightness[best][:, None], 2 * HUE_SMOOTHING_BINS)[:, 0],
+                       cusp_c=cmax[np.arange(HUE_BINS), best])
+
     def _hue_weights(self, h_deg):
         width = 360.0 / HUE_BINS
         x = (np.asarray(h_deg, dtype=np.float64) / width - 0.5) % HUE_BINS

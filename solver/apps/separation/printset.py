@@ -20,7 +20,7 @@ THICKNESS_SEPARATOR = "@"           # 'C8.7@1500': an ink and its layer thicknes
 MIN_THICKNESS_NM, MAX_THICKNESS_NM = 10.0, 100000.0
 PROCESS = "process"                 # --inks process: the process inks (solver.printing.process_inks)
 #: the inks `python -m inkbsdf.print` prints with unless told (printing order; an ink list)
-DEFAULT_INK_LIST = "R30,Y30,B30"
+DEFAULT_INK_LIST = "process"
 
 
 class InkListError(ValueError):
@@ -32,6 +32,32 @@ def split_ink(label: str) -> tuple[str, float | None]:
     thickness in nm (None: the table request's default)."""
     spec, sep, thickness = str(label).partition(THICKNESS_SEPARATOR)
     return spec, (float(thickness) if sep else None)
+
+
+def dominant_pigment(label: str) -> str | None:
+    """The pigment letter with the largest volume fraction of an ink ('M22.5+C1' → 'M'), None
+    for clear varnish."""
+    components = parse_ink(split_ink(label)[0]).components
+    return max(components, key=lambda cf: cf[1])[0] if components else None
+
+
+def process_paper_albedo() -> float:
+    """The paper the process inks were designed on (their flat albedo)."""
+    from solver.printing.process_inks import process_paper_albedo as albedo
+
+    return albedo()
+
+
+def default_paper(inks) -> float:
+    """The paper albedo a print of `inks` gets unless told: the process inks' own paper for the
+    process set, else `solver.paper.PAPER_ALBEDO`."""
+    from solver.paper import PAPER_ALBEDO
+
+    try:
+        process = process_set()
+    except ImportError:
+        return PAPER_ALBEDO
+    return process_paper_albedo() if tuple(inks) == process else PAPER_ALBEDO
 
 
 def process_set() -> tuple[str, ...]:

@@ -247,6 +247,10 @@ def separate_lab(model: PrintColourModel, target_lab, settings: SolverSettings =
         part = slice(start, start + settings.chunk)
         t = wanted[part]
         coverages[part], _, iterations[part] = multistart(solved, t, grid, settings)
+        if objective is not None and objective.black is not None:      # polish: the colour first
+            polish = objective.polished()
+            coverages[part], _, more = lm_solve(polish, polish.targets(targets[part]), coverages[part], settings)
+            iterations[part] += more
         if progress is not None:
             progress(t.shape[0])
     if objective is not None:
