@@ -122,6 +122,11 @@ class InkingObjective:
         return self.model.n_inks
 
     @property
+    def tac_limit(self) -> float:
+        """The solver projects its steps onto Σc ≤ this (the penalty then only shapes its Jacobian)."""
+        return self.rule.tac
+
+    @property
     def extras(self) -> int:
         return 2 if self.black is not None else 1
 
