@@ -184,9 +184,15 @@ def _define_class():
                 self._luts, self.model, self.looped, self.primaries = luts, None, None, primaries
             self.premixed = None
             if self.coverage_model == "clapper-yule" and all(isinstance(c, float) for c in supports):
-                lut = premixed_lut(supports, self._luts)
+                lut = premixed_lut(supports, self._reduced())
                 if lut is not None:
-                    self.premixed = PrintModel([((0,), model_for(lut))], 1, self.coverage_model)
+                    self.premixed = PrintModel([((0,), InkModel(lut))], 1, self.coverage_model)
+
+        def _reduced(self):
+            """((subset, InkLUT), ...) of the primaries in this variant's colour space (each
+            table reduced alone, as the unrolled model does, before any mixing or regridding)."""
+            space = colour_space()
+            return [(subset, reduce_lut(lut, space)) for subset, lut in self._luts]
 
         def _lane_model(self):
             """The lane model for this evaluation: the premixed table (coverages are numbers,
@@ -198,10 +204,9 @@ def _define_class():
             if self.premixed is not None and not tracked:
                 return self.premixed, [1.0]
             if self.looped is None and len(self._luts) > 1 and dr.is_jit_v(mi.Float):
-                luts = common_grid([lut for _, lut in self._luts])
+                luts = common_grid([lut for _, lut in self._reduced()])
                 self.looped = False if luts is None else LoopedPrint(
-                    self._luts, len(self.inks), self.coverage_model,
-                    [reduce_lut(lut, colour_space()) for lut in luts])
+                    self._luts, len(self.inks), self.coverage_model, luts)
             if self.looped and not tracked:
                 return self.looped, None
             if self.model is None:
