@@ -187,6 +187,8 @@ def _define_class():
                 lut = premixed_lut(supports, self._reduced())
                 if lut is not None:
                     self.premixed = PrintModel([((0,), InkModel(lut))], 1, self.coverage_model)
+            if self.premixed is None:
+                self._lane_model()      # its tables now, not while a kernel is being recorded
 
         def _reduced(self):
             """((subset, InkLUT), ...) of the primaries in this variant's colour space (each
