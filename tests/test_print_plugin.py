@@ -331,13 +331,11 @@ def test_looped_print_equals_unrolled_on_halftones(use_variant, tables, variant)
 
 
 def test_premixed_tables_shared_between_bsdfs(use_variant, tables):
-    """Two BSDFs with the same tables and coverages hold one premixed table; another coverage
+    """Two BSDFs with the same table and coverage hold one premixed table; another coverage
     makes another."""
     mi = use_variant("llvm_ad_spectral")
-    from inkbsdf.inks import stack_provider
 
-    paths = (tables["R30"], tables["B30"])
-    with stack_provider(StackProvider()):
-        a, b, c = (load(mi, paths, cov) for cov in ([0.3, 0.6], [0.3, 0.6], [0.3, 0.7]))
+    a, b, c = (mi.load_dict({"type": "ink", "filename": str(tables["R30"]), "coverage": cov})
+               for cov in (0.3, 0.3, 0.7))
     model = lambda bsdf: bsdf.premixed.primaries[0][1]      # noqa: E731
     assert model(a) is model(b) and model(a) is not model(c)
