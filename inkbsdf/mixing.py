@@ -194,11 +194,12 @@ class LoopedPrint:
     Not differentiable in reverse mode (a symbolic loop): the plugin uses it only while no
     input of the BSDF is being differentiated."""
 
-    def __init__(self, primaries, n_inks: int, coverage_model: str, luts):
-        self.subsets = tuple(tuple(s) for s, _ in primaries)
+    def __init__(self, subsets, n_inks: int, coverage_model: str, model: InkModel):
+        """`subsets`: the printed primaries S ≠ ∅ in the order of `model`'s stacked tables."""
+        self.subsets = tuple(tuple(s) for s in subsets)
         self.n_inks = int(n_inks)
         self.clapper_yule = check_coverage_model(coverage_model) == "clapper-yule"
-        self.model = InkModel.stacked(luts)
+        self.model = model
         self.has_diffuse = self.model.has_diffuse
         self._subset_bits = mi.UInt32([sum(1 << i for i in s) for s in self.subsets])
 

@@ -45,7 +45,7 @@ MIRROR_TOLERANCE = 1e-3
 
 _classes: dict[str, type] = {}      # variant → BSDF class (a class derives from one variant's BSDF)
 _models: dict[tuple, tuple] = {}    # (variant, id(lut)) → (lut, InkModel): one copy per table
-_premixed: dict[tuple, tuple] = {}  # (variant, coverages, subsets, ids of tables) → (tables, InkModel)
+_premixed: dict[tuple, tuple] = {}  # premixed and stacked tables: key → (tables, InkModel)
 _MAX_MODELS = 64
 
 
@@ -146,6 +146,21 @@ def premixed_model(coverages, primaries):
     return hit[1]
 
 
+def stacked_model(luts):
+    """The InkModel of `luts` stacked on their common grid (`LoopedPrint`), or None when they
+    have none; shared by every BSDF of this variant with the same tables."""
+    key = (mi.variant(), "stacked", tuple(id(lut) for lut in luts))
+    hit = _premixed.get(key)
+    if hit is None or any(a is not b for a, b in zip(hit[0], luts)):
+        common = common_grid(list(luts))
+        if common is None:
+            return None
+        while len(_premixed) >= _MAX_MODELS:
+            _premixed.pop(next(iter(_premixed)))
+        hit = _premixed[key] = (tuple(luts), InkModel.stacked(common))
+    return hit[1]
+
+
 def coverage_names(props) -> list[str]:
     """`coverage` for the single-ink form, `coverage1` … `coveragek` for k numbered inks."""
     numbers = numbered_inks(props)
@@ -225,9 +240,9 @@ def _define_class():
             if self.premixed is not None and not tracked:
                 return self.premixed, [1.0]
             if self.looped is None and len(self._luts) > 1 and dr.is_jit_v(mi.Float):
-                luts = common_grid([lut for _, lut in self._reduced()])
-                self.looped = False if luts is None else LoopedPrint(
-                    self._luts, len(self.inks), self.coverage_model, luts)
+                model = stacked_model([lut for _, lut in self._reduced()])
+                self.looped = False if model is None else LoopedPrint(
+                    [s for s, _ in self._luts], len(self.inks), self.coverage_model, model)
             if self.looped and not tracked:
                 return self.looped, None
             if self.model is None:
