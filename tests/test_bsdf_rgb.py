@@ -80,3 +80,12 @@ def test_twosided_back_face(use_variant, ink_tables):
     back_two = as_numpy(mi, two.eval(ctx, surface_interaction(mi, wi * flip, lam), vector(mi, wo * flip)))
     assert np.all(front > 0) and np.all(back_one == 0)
     np.testing.assert_allclose(back_two, front, rtol=1e-5)
+
+
+def test_mono_render_written_as_grey():
+    """A mono variant's [H, W, 1] luminance image is written as grey RGB (R = G = B = Y)."""
+    from inkbsdf.apps.imageio import to_rgb_array
+
+    y = np.random.default_rng(3).random((4, 5, 1)).astype(np.float32)
+    rgb = to_rgb_array(y)
+    assert rgb.shape == (4, 5, 3) and np.array_equal(rgb, np.repeat(y, 3, axis=2))
