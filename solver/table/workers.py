@@ -21,6 +21,7 @@ from __future__ import annotations
 import ctypes
 import multiprocessing
 import os
+import pickle
 import signal
 import traceback
 from dataclasses import dataclass
@@ -73,7 +74,7 @@ def _serve(conn: Connection, parent_pid: int) -> None:
         try:
             reply = (True, fn(unit))
         except BaseException as exc:       # the parent decides; this worker stays usable
-            reply = (False, exc, traceback.format_exc())
+            reply = (False, _portable(exc), traceback.format_exc())
         try:
             conn.send(reply)
         except (BrokenPipeError, OSError):
@@ -81,6 +82,16 @@ def _serve(conn: Connection, parent_pid: int) -> None:
         except Exception as exc:           # the result or the error does not pickle (send wrote nothing)
             conn.send((False, RuntimeError(f"a unit's {'result' if reply[0] else 'error'} cannot be sent "
                                            f"back from its worker: {exc}"), traceback.format_exc()))
+
+
+def _portable(exc: BaseException) -> BaseException:
+    """`exc` if it survives pickling both ways (the parent must be able to rebuild it), else a
+    RuntimeError saying what it was."""
+    try:
+        pickle.loads(pickle.dumps(exc))
+        return exc
+    except Exception:
+        return RuntimeError(f"{type(exc).__name__}: {exc}")
 
 
 @dataclass
