@@ -100,6 +100,7 @@ class _Worker:
     conn: Connection
 
     def lost(self) -> WorkerLost:
+        self.process.join(JOIN_S)          # its pipe can close before its exit is seen
         code = self.process.exitcode
         how = (f"killed by signal {-code}" + (" (out of memory?)" if -code == signal.SIGKILL else "")
                if code is not None and code < 0 else f"exit code {code}")
