@@ -27,6 +27,16 @@ def is_jit() -> bool:
     return dr.is_jit_v(mi.Float)
 
 
+def opaque(value, kind=None):
+    """A grid's number as an opaque JIT variable (a kernel input, not a literal compiled into
+    the kernel), so that tables on different grids share kernels; the number itself in
+    scalar variants."""
+    if not is_jit():
+        return value
+    kind = kind or (mi.UInt32 if isinstance(value, int) else mi.Float)
+    return dr.opaque(kind, value)
+
+
 class Buffer:
     """A read-only float buffer that `gather` reads with per-lane indices in any variant."""
 
@@ -87,15 +97,16 @@ class Axis:
             raise ValueError("an interpolation axis needs a strictly increasing grid of ≥ 2 nodes")
         self.size = int(nodes.size)
         self.key = nodes.tobytes()          # equal grids locate equally (shared by the models)
-        self.lo, self.hi = float(nodes[0]), float(nodes[-1])
+        self.lo, self.hi = opaque(float(nodes[0])), opaque(float(nodes[-1]))
+        self._last, self._last_f = opaque(self.size - 2), opaque(float(self.size - 2))
         step = uniform_step(nodes)
         self.uniform = step is not None
         if self.uniform:
-            self._inv_step = 1.0 / step
+            self._inv_step = opaque(1.0 / step)
         else:
             table = cell_table(nodes)
-            self._x0, self._inv_bin = table.x0, table.inv_width
-            self._n_bins = int(table.cells.size)
+            self._x0, self._inv_bin = opaque(table.x0), opaque(table.inv_width)
+            self._n_bins = opaque(int(table.cells.size))
             self._cells = Buffer(table.cells.astype(np.float64))
             self._nodes = Buffer(nodes)
             self._inv_len = Buffer(np.append(1.0 / np.diff(nodes), 1.0))
@@ -107,10 +118,10 @@ class Axis:
 
     def locate(self, x):
         x = self._clamp(x)
-        last = self.size - 2
+        last = self._last
         if self.uniform:
             u = (x - self.lo) * self._inv_step
-            i = mi.UInt32(dr.select(u < last, dr.floor(u), last))
+            i = mi.UInt32(dr.select(u < self._last_f, dr.floor(u), self._last_f))
             t = u - mi.Float(i)
         else:
             b = mi.UInt32(dr.floor((x - self._x0) * self._inv_bin))
@@ -123,35 +134,40 @@ class Axis:
 
 
 class NodeTable:
-    """Multilinear interpolant of nodal values `values[n_0, …, n_{d−1}, C]` (C channels)."""
+    """Multilinear interpolant of nodal values `values[n_0, …, n_{d−1}, C]` (C channels), or
+    with `stacked`, of several such tables on one grid, `values[P, n_0, …, C]`, one buffer
+    (`lerp(…, block=p)` reads table p; p may differ per lane)."""
 
-    def __init__(self, values):
+    def __init__(self, values, stacked: bool = False):
         values = np.asarray(values, dtype=np.float64)
-        if values.ndim < 2:
+        if values.ndim < 2 + int(stacked):
             raise ValueError("NodeTable values need ≥ 1 grid axis and a channel axis")
-        self.shape = values.shape[:-1]
+        self.shape = values.shape[1 if stacked else 0:-1]
         self.channels = int(values.shape[-1])
         strides, s = [], self.channels
         for n in reversed(self.shape):
             strides.append(s)
             s *= n
-        self._strides = tuple(reversed(strides))       # flat-index stride of each grid axis
+        self._strides = tuple(opaque(int(v)) for v in reversed(strides))   # flat-index stride per axis
+        self._block = opaque(int(s))                                      # flat size of one table
         self._buf = Buffer(values)
 
-    def lerp(self, coords, channels=None):
-        """Values at located coordinates [(i, t) per axis]; returns one array per channel."""
+    def lerp(self, coords, channels=None, block=0):
+        """Values at located coordinates [(i, t) per axis] of table `block` (stacked tables);
+        returns one array per channel."""
         if len(coords) != len(self.shape):
             raise ValueError(f"{len(self.shape)} coordinates expected, got {len(coords)}")
         channels = range(self.channels) if channels is None else channels
-        base = 0
+        base = block * self._block if not (isinstance(block, int) and block == 0) else 0
         for (i, _), stride in zip(coords, self._strides):
             base = base + i * stride
         out = [0.0 for _ in channels]
         for corner in product((0, 1), repeat=len(coords)):
             offset, weight = 0, 1.0
             for bit, (_, t), stride in zip(corner, coords, self._strides):
-                offset += bit * stride
+                if bit:
+                    offset = offset + stride
                 weight = weight * (t if bit else 1.0 - t)
             for k, c in enumerate(channels):
-                out[k] = out[k] + weight * self._buf.gather(base + (offset + c))
+                out[k] = out[k] + weight * self._buf.gather(base + offset + c)
         return out

@@ -16,7 +16,7 @@ reference (NumPy) implementation of the same formulas is `solver.printing`.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import drjit as dr
 import mitsuba as mi
@@ -48,6 +48,8 @@ class Incident:
     paper: object           # Murray–Davies: a_∅·r/π
     specular: object        # UnpolarizedSpectrum: Σ a_S R_spec,S(σ), weight of the delta lobe
     albedo_diffuse: object  # UnpolarizedSpectrum: ∫ (smooth part of f) cos θo dωo
+    printer: object = None  # the PrintModel that made it (its `diffuse`, `mirror` go with it)
+    lanes: object = None    # LoopedPrint: (nonzero-primary bits, coverages, λ, σ located, paper)
 
 
 def demichel(coverages, subset):
@@ -106,8 +108,10 @@ class PrintModel:
             layers.append(Layer(model, a, loc_l, loc_s, coupling))
             terms.append((a, q, through))
         if self.clapper_yule:
-            return self._clapper_yule(cos_i, tuple(layers), bare, terms, r)
-        return self._murray_davies(cos_i, tuple(layers), bare, terms, r)
+            inc = self._clapper_yule(cos_i, tuple(layers), bare, terms, r)
+        else:
+            inc = self._murray_davies(cos_i, tuple(layers), bare, terms, r)
+        return replace(inc, printer=self)
 
     @staticmethod
     def _clapper_yule(cos_i, layers, bare, terms, r) -> Incident:
@@ -176,5 +180,129 @@ class PrintModel:
                 if m.has_diffuse:
                     R = m.layer(layer.lam, layer.sig, theta.on(m.theta_axis), dphi.on(m.dphi_axis))
                     f += layer.weight * dr.inv_pi * R
+        valid = inc.front & (cos_o > 0)
+        return dr.select(valid, f * cos_o, 0.0)
+
+
+class LoopedPrint:
+    """The same print as `PrintModel`, for JIT variants: per lane only the printed primaries
+    with a Demichel weight > 0, visited in one Dr.Jit loop over the set bits of a per-lane mask,
+    their tables stacked in one buffer per quantity (`InkModel.stacked`, on the union of their
+    grids: `inkbsdf.premix.common_grid`). One copy of the lookups in the kernel whatever the
+    number of primaries, and a lane pays for the primaries it shows: one on a halftone (each
+    texel inked or not), all of them where every coverage is strictly between 0 and 1.
+    Not differentiable in reverse mode (a symbolic loop): the plugin uses it only while no
+    input of the BSDF is being differentiated."""
+
+    def __init__(self, primaries, n_inks: int, coverage_model: str, luts):
+        self.subsets = tuple(tuple(s) for s, _ in primaries)
+        self.n_inks = int(n_inks)
+        self.clapper_yule = check_coverage_model(coverage_model) == "clapper-yule"
+        self.model = InkModel.stacked(luts)
+        self.has_diffuse = self.model.has_diffuse
+        self._subset_bits = mi.UInt32([sum(1 << i for i in s) for s in self.subsets])
+
+    def _weight(self, coverages, bits):
+        """a_S of the subset whose ink bits are `bits` (per lane)."""
+        w = None
+        for i, c in enumerate(coverages):
+            term = dr.select(((bits >> i) & 1) != 0, c, 1.0 - c)
+            w = term if w is None else w * term
+        return w
+
+    def _nonzero(self, coverages):
+        """Per-lane bit mask of the primaries (slots) with a_S > 0."""
+        mask = mi.UInt32(0)
+        for slot, subset in enumerate(self.subsets):
+            mask = mask | dr.select(demichel(coverages, subset) > 0, mi.UInt32(1 << slot), mi.UInt32(0))
+        return mask
+
+    def _visit(self, coverages, mask, step, totals):
+        """totals after step(slot, a_S, totals) for every set bit of `mask` (a Dr.Jit loop)."""
+        def body(mask, *totals):
+            slot = dr.tzcnt(mask)
+            a = self._weight(coverages, dr.gather(mi.UInt32, self._subset_bits, slot))
+            new = step(slot, a, totals)
+            return (mask & (mask - 1),) + tuple(type(t)(x) for t, x in zip(totals, new))
+        out = dr.while_loop(state=(mask,) + tuple(totals), cond=lambda mask, *_: mask != 0, body=body,
+                            labels=("mask",) + tuple(f"total{k}" for k in range(len(totals))))
+        return out[1:]
+
+    def incident(self, wi, wavelengths, coverages, paper) -> Incident:
+        r = paper
+        cos_i = mi.Frame3f.cos_theta(wi)
+        n = dr.size_v(mi.UnpolarizedSpectrum)
+        m = self.model
+        lam = tuple(m.lam_axis.locate(wavelengths[j]) for j in range(n))
+        sig = m.sig_axis.locate(dr.safe_acos(cos_i))
+        coverages = [mi.Float(c) for c in coverages]
+        bare = demichel(coverages, ())
+        mask = self._nonzero(coverages)
+        zero = mi.UnpolarizedSpectrum(0.0)
+        lanes = (mask, coverages, lam, sig, r)
+        if self.clapper_yule:
+            def step(slot, a, totals):
+                t_in, rho, tau, spec, diff = totals
+                q = m.at_incidence(lam, sig, block=slot)
+                return (t_in + a * q.t_in, rho + a * q.rho, tau + a * q.tau, spec + a * q.r_spec,
+                        diff + a * q.r_diff if q.r_diff is not None else diff)
+            t_in, rho, tau, spec, diff = self._visit(coverages, mask, step, (zero, zero, zero, zero, zero))
+            t_in, tau = t_in + bare, tau + bare
+            through = safe_div(r * t_in, 1.0 - r * rho)
+            return Incident(front=cos_i > 0, layers=(), bare=bare, coupling=through * dr.inv_pi, paper=None,
+                            specular=mi.UnpolarizedSpectrum(spec), albedo_diffuse=diff + through * tau,
+                            printer=self, lanes=lanes)
+
+        def step(slot, a, totals):
+            albedo, spec = totals
+            q = m.at_incidence(lam, sig, block=slot)
+            albedo = albedo + a * (safe_div(r * q.t_in, 1.0 - r * q.rho) * q.tau)
+            if q.r_diff is not None:
+                albedo = albedo + a * q.r_diff
+            return albedo, spec + a * q.r_spec
+        albedo, spec = self._visit(coverages, mask, step, (zero, zero))
+        return Incident(front=cos_i > 0, layers=(), bare=bare, coupling=None, paper=bare * r * dr.inv_pi,
+                        specular=mi.UnpolarizedSpectrum(spec), albedo_diffuse=albedo + bare * r,
+                        printer=self, lanes=lanes)
+
+    def spec_probability(self, inc: Incident):
+        spec = lane_mean(inc.specular)
+        return safe_div(spec, spec + lane_mean(inc.albedo_diffuse))
+
+    def mirror(self, inc: Incident):
+        mask, coverages, lam, sig, _ = inc.lanes
+        zero = mi.UnpolarizedSpectrum(0.0)
+
+        def step(slot, a, totals):
+            lb, lc, ls = self.model.mirror(lam, sig, block=slot)
+            return tuple(t + a * x for t, x in zip(totals, (lb, lc, ls)))
+        return tuple(mi.UnpolarizedSpectrum(x) for x in self._visit(coverages, mask, step, (zero, zero, zero)))
+
+    def diffuse(self, inc: Incident, wi, wo):
+        mask, coverages, lam, sig, r = inc.lanes
+        m = self.model
+        cos_o = mi.Frame3f.cos_theta(wo)
+        theta = dr.safe_acos(cos_o)
+        theta_sig = m.sig_axis.locate(theta)
+        if self.has_diffuse:
+            theta_r = m.theta_axis.locate(theta)
+            dphi = m.dphi_axis.locate(dr.safe_acos(cos_dphi(wi, wo)))
+        clapper_yule = self.clapper_yule
+
+        def step(slot, a, totals):
+            light, layer = totals
+            t_out = m.exit_transmittance(lam, theta_sig, block=slot)
+            if clapper_yule:
+                light = light + a * t_out
+            else:
+                q = m.at_incidence(lam, sig, block=slot)
+                light = light + a * safe_div(r * q.t_in, 1.0 - r * q.rho) * dr.inv_pi * t_out
+            if self.has_diffuse:
+                layer = layer + a * dr.inv_pi * m.layer(lam, sig, theta_r, dphi, block=slot)
+            return light, layer
+        zero = mi.UnpolarizedSpectrum(0.0)
+        light, layer = self._visit(coverages, mask, step, (zero, zero))
+        f = inc.coupling * (inc.bare + light) if clapper_yule else inc.paper + light
+        f = f + layer
         valid = inc.front & (cos_o > 0)
         return dr.select(valid, f * cos_o, 0.0)

@@ -66,31 +66,48 @@ class AtIncidence:
 
 
 class InkModel:
-    """Dr.Jit lookup tables of one ink; built under (and used with) one Mitsuba variant.
+    """Dr.Jit lookup tables of one ink, or of several on one grid stacked in one buffer
+    (`InkModel.stacked`: each method's `block` picks the table, per lane); built under (and
+    used with) one Mitsuba variant.
 
     In polarized variants a table with s and p amplitudes (`lut.mirror_sp`) also gets the
     mirror beam's Mueller elements (`mirror`, when `has_mirror_sp`)."""
 
-    def __init__(self, lut: InkLUT):
-        self.has_diffuse = lut.has_diffuse
+    def __init__(self, lut: InkLUT, stack: tuple = ()):
+        luts = stack or (lut,)
+        stacked = bool(stack)
+        self.has_diffuse = any(l.has_diffuse for l in luts)
         self.lam_axis = Axis(lut.wavelengths_nm)
         self.sig_axis = Axis(lut.sigma_rad)
-        cols = [lut.R_spec, lut.Tbar] + ([lut.R_diff] if self.has_diffuse else [])
-        self.sig_table = NodeTable(np.stack(cols, axis=-1))               # [nλ, nσ, 2|3]
-        self.lam_table = NodeTable(np.stack([lut.rho_bar, lut.tau_bar], axis=-1))   # [nλ, 2]
-        if self.has_diffuse:
-            self.theta_axis = Axis(lut.theta_rad)
-            self.dphi_axis = Axis(lut.dphi_rad)
-            self.R_table = NodeTable(lut.R[..., None])                    # [nλ, nσ, nθ, nφ, 1]
-        self.has_mirror_sp = bool(mi.is_polarized) and lut.mirror_sp is not None
-        if self.has_mirror_sp:
-            self.mirror_table = NodeTable(lut.mirror_sp)                  # [nλ, nσ, 3]
 
-    def at_incidence(self, lam, sig) -> AtIncidence:
+        def table(columns):
+            values = np.stack([columns(l) for l in luts])
+            return NodeTable(values if stacked else values[0], stacked=stacked)
+
+        diff = self.has_diffuse
+        self.sig_table = table(lambda l: np.stack([l.R_spec, l.Tbar] + ([l.R_diff] if diff else []), axis=-1))
+        self.lam_table = table(lambda l: np.stack([l.rho_bar, l.tau_bar], axis=-1))        # [nλ, 2]
+        if diff:
+            grid = next(l for l in luts if l.has_diffuse)
+            self.theta_axis = Axis(grid.theta_rad)
+            self.dphi_axis = Axis(grid.dphi_rad)
+            zeros = np.zeros_like(grid.R)
+            self.R_table = table(lambda l: (l.R if l.has_diffuse else zeros)[..., None])   # [nλ, nσ, nθ, nφ, 1]
+        self.has_mirror_sp = bool(mi.is_polarized) and all(l.mirror_sp is not None for l in luts)
+        if self.has_mirror_sp:
+            self.mirror_table = table(lambda l: l.mirror_sp)                             # [nλ, nσ, 3]
+
+    @classmethod
+    def stacked(cls, luts) -> "InkModel":
+        """Several tables on one grid (λ, σ; θ, Δφ for those with a diffuse lobe) in one
+        buffer each; `block` = the table's position in `luts`."""
+        return cls(luts[0], tuple(luts))
+
+    def at_incidence(self, lam, sig, block=0) -> AtIncidence:
         """Quantities at located wavelengths `lam` (one (i, t) per channel) and σ `sig`."""
         n = len(lam)
-        cols = [self.sig_table.lerp([lam[j], sig]) for j in range(n)]
-        rho_tau = [self.lam_table.lerp([lam[j]]) for j in range(n)]
+        cols = [self.sig_table.lerp([lam[j], sig], block=block) for j in range(n)]
+        rho_tau = [self.lam_table.lerp([lam[j]], block=block) for j in range(n)]
         return AtIncidence(
             r_spec=spectrum_of([cols[j][0] for j in range(n)]),
             t_in=spectrum_of([cols[j][1] for j in range(n)]),
@@ -98,19 +115,20 @@ class InkModel:
             rho=spectrum_of([rho_tau[j][0] for j in range(n)]),
             tau=spectrum_of([rho_tau[j][1] for j in range(n)]))
 
-    def exit_transmittance(self, lam, theta):
+    def exit_transmittance(self, lam, theta, block=0):
         """T̄(θ) at located wavelengths and exit angle θ located on `sig_axis`."""
-        return spectrum_of([self.sig_table.lerp([lam[j], theta], channels=(1,))[0]
+        return spectrum_of([self.sig_table.lerp([lam[j], theta], channels=(1,), block=block)[0]
                             for j in range(len(lam))])
 
-    def layer(self, lam, sig, theta, dphi):
+    def layer(self, lam, sig, theta, dphi, block=0):
         """R(σ, θ, Δφ) (π·f of the layer's diffuse lobe); θ and Δφ located on `theta_axis`,
         `dphi_axis`. Only for tables with a diffuse lobe."""
-        return spectrum_of([self.R_table.lerp([lam[j], sig, theta, dphi])[0] for j in range(len(lam))])
+        return spectrum_of([self.R_table.lerp([lam[j], sig, theta, dphi], block=block)[0]
+                            for j in range(len(lam))])
 
-    def mirror(self, lam, sig):
+    def mirror(self, lam, sig, block=0):
         """(b, C, S) of the mirror beam's Mueller matrix (`inkbsdf.lut.mirror_mueller`) at
         located wavelengths and σ; each element interpolated like R_spec, so a lerp of pure
         Mueller matrices (a physical, partly depolarising mix). Polarized variants only."""
-        cols = [self.mirror_table.lerp([lam[j], sig]) for j in range(len(lam))]
+        cols = [self.mirror_table.lerp([lam[j], sig], block=block) for j in range(len(lam))]
         return tuple(spectrum_of([cols[j][k] for j in range(len(lam))]) for k in range(3))

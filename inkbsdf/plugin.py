@@ -29,8 +29,9 @@ from .colour_space import channel_coordinates, colour_space, reduce_lut
 from .coverage import check_coverage_texture, coverage_support
 from .errors import InkParameterError, plugin_factory
 from .inks import load_inks, numbered_inks, stack_lut
-from .mixing import PrintModel
+from .mixing import LoopedPrint, PrintModel
 from .model import InkModel, safe_div
+from .premix import common_grid, premixed_lut
 from .polarized import depolarizing, in_stokes_frames, mirror_matrix
 from .variant import check_variant
 
@@ -150,7 +151,7 @@ def _define_class():
             for name, texture in zip(self.coverage_names, self.coverages):
                 check_coverage_texture(texture, name)
             self._stacks = {}
-            self.primaries = None
+            self.primaries = self.model = self.premixed = self.looped = None
             self._update_primaries()
             delta = mi.BSDFFlags.DeltaReflection | mi.BSDFFlags.FrontSide
             smooth = mi.BSDFFlags.DiffuseReflection | mi.BSDFFlags.FrontSide
@@ -162,39 +163,74 @@ def _define_class():
 
         # -------------------------------------------------------------- helpers
         def _update_primaries(self):
-            """Decide which printed primaries can occur (from the coverages' data) and build
-            the lane model; stack tables come from the provider, once per stack."""
-            if len(self.inks) == 1:
-                primaries = ((), (0,))
-            else:
-                primaries = possible_primaries([coverage_support(t) for t in self.coverages])
-            if primaries == self.primaries:
-                return
-            luts = []
-            for subset in (s for s in primaries if s):
-                if len(subset) == 1:
-                    luts.append((subset, self.inks[subset[0]].lut))
-                    continue
-                if subset not in self._stacks:
-                    self._stacks[subset] = stack_lut(tuple(self.inks[i] for i in stack_order(subset)))
-                luts.append((subset, self._stacks[subset]))
-            if mi.is_polarized:        # every ink, even one with no area yet, and the stacks
-                for lut in [ink.lut for ink in self.inks] + [lut for _, lut in luts]:
-                    check_polarizable(lut)
-            self.model = PrintModel([(s, model_for(lut)) for s, lut in luts], len(self.inks),
-                                    self.coverage_model)
-            self.primaries = primaries
+            """Decide which printed primaries can occur (from the coverages' data); with
+            coverages that are numbers and Clapper–Yule, mix their tables into one
+            (`inkbsdf.premix`). Stack tables come from the provider, once per stack; the
+            per-primary lane model is built when first needed (`_lane_model`)."""
+            supports = [coverage_support(t) for t in self.coverages]
+            primaries = ((), (0,)) if len(self.inks) == 1 else possible_primaries(supports)
+            if primaries != self.primaries:
+                luts = []
+                for subset in (s for s in primaries if s):
+                    if len(subset) == 1:
+                        luts.append((subset, self.inks[subset[0]].lut))
+                        continue
+                    if subset not in self._stacks:
+                        self._stacks[subset] = stack_lut(tuple(self.inks[i] for i in stack_order(subset)))
+                    luts.append((subset, self._stacks[subset]))
+                if mi.is_polarized:        # every ink, even one with no area yet, and the stacks
+                    for lut in [ink.lut for ink in self.inks] + [lut for _, lut in luts]:
+                        check_polarizable(lut)
+                self._luts, self.model, self.looped, self.primaries = luts, None, None, primaries
+            self.premixed = None
+            if self.coverage_model == "clapper-yule" and all(isinstance(c, float) for c in supports):
+                lut = premixed_lut(supports, self._luts)
+                if lut is not None:
+                    self.premixed = PrintModel([((0,), model_for(lut))], 1, self.coverage_model)
+
+        def _lane_model(self):
+            """The lane model for this evaluation: the premixed table (coverages are numbers,
+            Clapper–Yule), else in JIT variants the loop over each lane's non-zero primaries
+            (`LoopedPrint`), else one lookup per primary (`PrintModel`: scalar variants, a
+            single primary, or an input being differentiated, whose derivatives need the
+            unrolled sums). Returns (model, coverages to use or None for the textures')."""
+            tracked = self._inputs_tracked()
+            if self.premixed is not None and not tracked:
+                return self.premixed, [1.0]
+            if self.looped is None and len(self._luts) > 1 and dr.is_jit_v(mi.Float):
+                luts = common_grid([lut for _, lut in self._luts])
+                self.looped = False if luts is None else LoopedPrint(
+                    self._luts, len(self.inks), self.coverage_model,
+                    [reduce_lut(lut, colour_space()) for lut in luts])
+            if self.looped and not tracked:
+                return self.looped, None
+            if self.model is None:
+                self.model = PrintModel([(s, model_for(lut)) for s, lut in self._luts], len(self.inks),
+                                        self.coverage_model)
+            return self.model, None
+
+        def _inputs_tracked(self) -> bool:
+            """True while a coverage or the paper albedo has derivatives enabled."""
+            if not dr.is_diff_v(mi.Float):
+                return False
+            for texture in self.coverages + [self.paper]:
+                params = mi.traverse(texture)
+                if any(dr.grad_enabled(params[k]) for k in params.keys()):
+                    return True
+            return False
 
         def _incident(self, si, active):
-            cov = [_clamp01(t.eval_1(si, active)) for t in self.coverages]
+            model, coverages = self._lane_model()
+            if coverages is None:
+                coverages = [_clamp01(t.eval_1(si, active)) for t in self.coverages]
             r = _clamp01(mi.UnpolarizedSpectrum(self.paper.eval(si, active)))
-            return self.model.incident(si.wi, channel_coordinates(si), cov, r)
+            return model.incident(si.wi, channel_coordinates(si), coverages, r)
 
         def _spec_prob(self, ctx, inc):
             """Probability that sample() picks the delta lobe, given the enabled lobes."""
             has_spec, has_diff = _lobes(ctx)
             if has_spec and has_diff:
-                return self.model.spec_probability(inc)
+                return inc.printer.spec_probability(inc)
             return 1.0 if has_spec else 0.0
 
         def _pdf(self, ctx, inc, wo):
@@ -205,7 +241,7 @@ def _define_class():
             """The delta lobe's weight × its selection probability (Σ a_S R_spec,S; a Mueller
             matrix in polarized variants) for the mirror direction `wo`."""
             if mi.is_polarized:
-                b, c, s = self.model.mirror(inc)
+                b, c, s = inc.printer.mirror(inc)
                 return in_stokes_frames(mirror_matrix(inc.specular, b, c, s), si.wi, wo, ctx.mode)
             return inc.specular
 
@@ -247,7 +283,7 @@ def _define_class():
             bs.sampled_component = dr.select(pick_spec, mi.UInt32(SPECULAR), mi.UInt32(DIFFUSE))
             bs.sampled_type = dr.select(pick_spec, mi.UInt32(+mi.BSDFFlags.DeltaReflection),
                                         mi.UInt32(+mi.BSDFFlags.DiffuseReflection))
-            f_diff = self.model.diffuse(inc, si.wi, wo_diff)
+            f_diff = inc.printer.diffuse(inc, si.wi, wo_diff)
             w_diff = safe_div(f_diff, dr.detach(pdf_diff))
             w_spec = self._mirror(ctx, si, inc, wo_spec) * safe_div(1.0, dr.detach(p_spec))
             if mi.is_polarized:
@@ -261,7 +297,7 @@ def _define_class():
             if not _lobes(ctx)[1]:
                 return mi.Spectrum(0.0)
             inc = self._incident(si, active)
-            value = _smooth(self.model.diffuse(inc, si.wi, wo))
+            value = _smooth(inc.printer.diffuse(inc, si.wi, wo))
             value, _ = self._with_mirror_derivative(ctx, si, inc, wo, value, 0.0)
             return dr.select(active, value, 0.0)
 
@@ -277,7 +313,7 @@ def _define_class():
                 return mi.Spectrum(0.0), mi.Float(0.0)
             inc = self._incident(si, active)
             ok = active & inc.front & (mi.Frame3f.cos_theta(wo) > 0)
-            value = _smooth(self.model.diffuse(inc, si.wi, wo))
+            value = _smooth(inc.printer.diffuse(inc, si.wi, wo))
             value, pdf = self._with_mirror_derivative(ctx, si, inc, wo, value, self._pdf(ctx, inc, wo))
             return dr.select(ok, value, 0.0), dr.select(ok, pdf, 0.0)
 

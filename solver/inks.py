@@ -1,4 +1,5 @@
-"""Ink descriptions as the paper writes them: `R15`, `Y7.5+B7.5`, `G30`, `clear`.
+"""Ink descriptions as the paper writes them: `R15`, `Y7.5+B7.5`, `G30`, `clear`; the process
+pigments C, M, K in the same grammar (`C8.7`, `K14.6+C6.4+M5.1`; solver.materials).
 
 Percent by volume at the CLI and in spec strings; fractions inside the code.  A *molecular*
 ink (pigment dissolved in the binder, the paper's "infinitesimal particles") is one homogeneous

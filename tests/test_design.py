@@ -147,3 +147,35 @@ def test_the_package_process_inks_print_their_recorded_colours():
         lab = colour.lab(recipe)
         assert float(delta_e2000(lab, np.array(ink.lab))) < 0.02, ink
         assert float(delta_e2000(lab, np.array(STANDARD[ink.colour]))) <= 3.0, ink
+
+
+class _OffsetParticles(FilmColour):
+    """A stand-in for particle tables (a wave table per recipe costs minutes): the molecular
+    colour plus a smooth offset that depends on the recipe, as grains shift a colour."""
+
+    def lab(self, recipe):
+        from dataclasses import replace
+
+        lab = super().lab(replace(recipe, particles="molecular"))
+        if recipe.particles == "molecular":
+            return lab
+        self.wave_tables += 1
+        load = recipe.loads[0][1]
+        return lab + np.array([4.0 - 10.0 * load, -3.0 + 5.0 * load, 2.0 + recipe.thickness_nm / 1000.0])
+
+
+def test_a_particle_ink_is_designed_through_a_few_tables():
+    colour = _OffsetParticles(paper=0.88)
+    known = Recipe((("C", 0.10),), 800.0, "sphere:100")
+    aim = parse_aim(",".join(f"{v:.6f}" for v in colour.lab(known)))[0]
+    colour.wave_tables = 0
+    result = design_ink(aim, InkTemplate(("C",), particles="sphere:100"), colour, tolerance=0.02)
+    assert result.de2000 < 0.1 and result.recipe.particles == "sphere:100"
+    assert result.particle_tables == colour.wave_tables <= 4
+    # the molecular design of the same aim is off by the grains' offset
+    assert design_ink(aim, InkTemplate(("C",)), FilmColour(paper=0.88)).recipe.loads != result.recipe.loads
+
+
+def test_particle_overprints_are_refused(capsys):
+    code, out, err = run_main(main, ["design", "--aim", "iso12647-2", "--particles", "sphere:100"], capsys)
+    assert code == 2 and "--particles" in err and "overprints" in err

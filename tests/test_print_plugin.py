@@ -56,19 +56,33 @@ def test_single_ink_matches_numpy_model(use_variant, tables, model, ink, coverag
         np.testing.assert_allclose(quadrature_albedo(mi, bsdf, deg, LAMBDAS), want, rtol=5e-4, atol=1e-5)
 
 
-@pytest.mark.parametrize("model", [CY, MD])
-def test_three_overlapping_inks_match_numpy_model(use_variant, tables, model):
+def constant_bitmap(mi, value):
+    """A spatially varying texture (a bitmap) that has `value` everywhere."""
+    return {"type": "bitmap", "data": mi.TensorXf(np.full((2, 2, 1), value, dtype=np.float32)), "raw": True}
+
+
+@pytest.mark.parametrize("model,textured,cov", [(CY, False, [0.5, 0.4, 0.6]), (CY, True, [0.5, 0.4, 0.6]),
+                                               (MD, False, [0.5, 0.4, 0.6]), (MD, True, [0.5, 0.4, 0.6]),
+                                               (CY, True, [1.0, 0.0, 1.0]), (MD, True, [1.0, 0.0, 1.0])])
+def test_three_overlapping_inks_match_numpy_model(use_variant, tables, model, textured, cov):
     """R30, a diffuse ink and B30 at 50/40/60 %: all eight primaries, overprints from the provider
-    (asked top first, once each); eval, delta lobe and albedo equal the NumPy model."""
+    (asked top first, once each); eval, delta lobe and albedo equal the NumPy model. Coverages
+    as numbers (Clapper–Yule: one premixed table, `inkbsdf.premix`; Murray–Davies: one lookup
+    per primary, in a loop) and as bitmaps (a loop over each lane's primaries of weight > 0,
+    `inkbsdf.mixing.LoopedPrint`; with coverages 1, 0, 1 only the stack of inks 1 and 3)."""
     mi = use_variant("llvm_ad_spectral")
     from inkbsdf.inks import stack_provider
 
     paths = (tables["R30"], tables["diffuse"], tables["B30"])
-    cov = [0.5, 0.4, 0.6]
+    from inkbsdf.mixing import LoopedPrint
+
     provider = StackProvider()
     with stack_provider(provider):
-        bsdf = load(mi, paths, cov, model)
-    assert sorted(provider.calls) == sorted([(2, 1), (3, 1), (3, 2), (3, 2, 1)])
+        bsdf = load(mi, paths, [constant_bitmap(mi, c) for c in cov] if textured else cov, model)
+    assert (bsdf.premixed is not None) == (model == CY and not textured)
+    assert isinstance(bsdf._lane_model()[0], LoopedPrint) == (bsdf.premixed is None)
+    if cov[1] > 0:
+        assert sorted(provider.calls) == sorted([(2, 1), (3, 1), (3, 2), (3, 2, 1)])
     printed = reference(paths)
     rng = np.random.default_rng(2)
     wi, wo = directions(rng, N_LANES), directions(rng, N_LANES)
@@ -242,3 +256,28 @@ def test_parameter_errors(use_variant, tables, params, message):
             params[f"filename{n}"] = str(tables["B30"])
     with pytest.raises(Exception, match=message):
         mi.load_dict({"type": "ink", **params})
+
+
+def test_coverage_bitmap_must_be_raw_and_finite(use_variant, tables, tmp_path):
+    """A coverage bitmap read without raw (sRGB-decoded: a 50 % grey would print 0.21) and an
+    EXR with NaN texels are refused at load, the message naming the parameter and the fix; the
+    same bitmaps read raw and filled load."""
+    from PIL import Image
+
+    mi = use_variant("llvm_ad_spectral")
+    Image.fromarray(np.full((4, 4), 128, np.uint8)).save(tmp_path / "grey.png")
+    base = {"type": "ink", "filename": str(tables["R30"])}
+    for raw in (None, False):
+        tex = {"type": "bitmap", "filename": str(tmp_path / "grey.png")}
+        if raw is not None:
+            tex["raw"] = raw
+        with pytest.raises(Exception, match=r"'coverage'.*raw missing or false.*name=\"raw\" value=\"true\""):
+            mi.load_dict({**base, "coverage": tex})
+    mi.load_dict({**base, "coverage": {"type": "bitmap", "filename": str(tmp_path / "grey.png"), "raw": True}})
+    holes = np.full((3, 5), 0.4, np.float32)
+    holes[1, 2] = np.nan
+    nan_exr = _bitmap(mi, tmp_path, "holes", holes, "bilinear")
+    with pytest.raises(Exception, match=r"'coverage2'.*1 NaN or infinite texel"):
+        mi.load_dict({"type": "ink", "filename1": str(tables["R30"]), "filename2": str(tables["B30"]),
+                      "coverage1": 0.3, "coverage2": nan_exr})
+    mi.load_dict({**base, "coverage": _bitmap(mi, tmp_path, "filled", np.nan_to_num(holes), "bilinear")})

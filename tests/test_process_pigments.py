@@ -128,3 +128,31 @@ def test_a_spectra_file_with_an_unknown_column_is_refused(tmp_path):
     path.write_text("wavelength_nm,k_red,k_yellow,k_blue,k_purple\n400,0,0,0,0\n500,0,0,0,0\n")
     with pytest.raises(ValueError, match="unknown column 'k_purple'"):
         load_material_data(path)
+
+
+def test_the_derivation_writes_a_file_the_package_reads(tmp_path, capsys):
+    """derive_pigments on a miniature raw folder and database: every column where the package
+    looks for it, biaxial axes averaged, values held beyond a file's range."""
+    from solver.data import derive_pigments as D
+
+    raw, db = tmp_path / "raw", tmp_path / "db"
+    raw.mkdir()
+    for parts in D.K_SOURCES.values():
+        for name, _ in parts:
+            (raw / name).write_text("# test\nwavelength_nm,n,k\n300,1.5,0.2\n900,1.5,0.4\n")
+    for colour, parts in D.NK_SOURCES.items():
+        for i, (path, _) in enumerate(parts):
+            f = db / path
+            f.parent.mkdir(parents=True, exist_ok=True)
+            start = 0.45 if colour == "cyan" else 0.30
+            f.write_text(f"DATA:\n  - type: tabulated nk\n    data: |\n        {start} {1.0 + i} {0.1 * (i + 1)}\n"
+                         f"        0.9 {1.0 + i} {0.1 * (i + 1)}\n")
+    assert D.main(["derive_pigments", str(raw), str(db)]) == 0
+    out = tmp_path / "pigments.csv"
+    out.write_text(capsys.readouterr().out)
+    data = load_material_data(out)
+    np.testing.assert_allclose(data.pigment_k("R", 600.0), 0.3)              # (0.2 + 0.4)/2 at 600 nm
+    np.testing.assert_allclose(data.pigment_n("C", [380.0, 700.0]), 2.0)     # mean of 1, 2, 3; held below 450
+    np.testing.assert_allclose(data.pigment_k("C", 380.0), 0.2)
+    np.testing.assert_allclose(data.pigment_n("K", 500.0), 1.0)
+    assert data.pigment_n("Y", 500.0) == PIGMENT_REAL_INDEX

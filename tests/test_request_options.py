@@ -153,3 +153,19 @@ def test_a_film_made_directly_gives_its_request_back():
     wave = dataclasses.replace(film, meta=dict(film.meta, tier="full", particles="sphere:100"))
     with pytest.raises(RequestError, match="no request settings"):
         TableRequest.of_table(wave)
+
+
+@pytest.mark.parametrize("case", CASES, ids=lambda c: c["ink"] + "-" + c.get("particles", "mol"))
+def test_overprint_member_from_a_table_file_keeps_every_option(case, tmp_path):
+    """Every option of every case survives the overprint path: an ink given by its table file
+    (`filename`) comes back from `_member_request` as the request that made the file."""
+    from inkbsdf.inks import InkSource
+    from inkbsdf.lut import load_lut
+    from inkbsdf.source import _member_request
+
+    req = make(case)
+    film = build_table(make(dict(ink="R30", wavelengths_nm=(400.0, 700.0), sigma_rad=(0.0, np.pi / 2),
+                                 polarisation=req.polarisation)))
+    path = write_table(tmp_path / "t.npz", dataclasses.replace(film, meta=table_meta(req, "full", "test")))
+    back = _member_request(InkSource(1, {"filename": str(path)}, load_lut(path)))
+    assert back == req and back.key() == req.key()

@@ -31,6 +31,11 @@ def ryb_boundary(ryb):
 
 
 @pytest.fixture(scope="module")
+def ryb_separator(ryb):
+    return Separator.build(ryb)
+
+
+@pytest.fixture(scope="module")
 def rybk_separator(rybk):
     return Separator.build(rybk, black=black_index(rybk, RYBK, None))
 
@@ -80,14 +85,11 @@ def _step_spike(printed_lab, source_lab) -> float:
 
 @pytest.mark.parametrize("name", list(RAMPS))
 @pytest.mark.parametrize("inks", ["ryb", "rybk"])
-def test_ramps_stay_monotone_and_smooth(name, inks, ryb, rybk, rybk_separator, ryb_boundary):
+def test_ramps_stay_monotone_and_smooth(name, inks, ryb_separator, rybk_separator):
     """A smooth ramp (monotone in L*) is monotone in L* after gamut mapping and separation, the
     print matches the mapped colours, and no step spikes against its neighbours (a notch from
     nearest-colour clipping does: the clip test below)."""
-    if inks == "ryb":
-        sep_ = Separator.build(ryb)
-    else:
-        sep_ = rybk_separator
+    sep_ = ryb_separator if inks == "ryb" else rybk_separator
     source = srgb8_to_lab(_ramp(*RAMPS[name]))
     assert np.all(np.diff(source[:, 0]) > 0) or np.all(np.diff(source[:, 0]) < 0)
     sep, _ = sep_.separate_srgb(_ramp(*RAMPS[name]) / 255.0)
@@ -98,12 +100,12 @@ def test_ramps_stay_monotone_and_smooth(name, inks, ryb, rybk, rybk_separator, r
     assert _step_spike(sep.printed_lab, source) < 3.0, name
 
 
-def test_clipping_makes_the_notch_that_mapping_avoids(ryb):
+def test_clipping_makes_the_notch_that_mapping_avoids(ryb, ryb_separator):
     """The blue→white ramp clipped to the closest printable colour (the old separation) has a
     spike in its steps; the perceptual mapping has none."""
     source = srgb8_to_lab(_ramp(*RAMPS["blue→white"]))
     clipped = separate_lab(ryb, source)
-    mapped, _ = Separator.build(ryb).separate_srgb(_ramp(*RAMPS["blue→white"]) / 255.0)
+    mapped, _ = ryb_separator.separate_srgb(_ramp(*RAMPS["blue→white"]) / 255.0)
     assert _step_spike(clipped.printed_lab, source) > 2 * _step_spike(mapped.printed_lab, source)
 
 
@@ -204,9 +206,9 @@ def test_tetrahedral_lut_is_exact_on_linear_tables():
     np.testing.assert_allclose(lut(rgb.reshape(-1, 3)), (rgb @ A + 0.1).reshape(-1, 4), atol=1e-12)
 
 
-def test_lut_error_against_direct_separation(ryb):
+def test_lut_error_against_direct_separation(ryb, ryb_separator):
     """A 17³ table against separating every colour: printed ΔE2000 small on random colours."""
-    sep_ = Separator.build(ryb)
+    sep_ = ryb_separator
     lut, _ = SeparationLUT.build(sep_, 17)
     x = np.random.default_rng(3).random((400, 3))
     direct, _ = sep_.separate_srgb(x)

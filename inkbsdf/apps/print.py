@@ -267,13 +267,13 @@ def write_characterisation(settings, path: Path) -> None:
     """The IT8.7/4-style chart of the inks and its predicted colour, as CGATS text."""
     from solver.apps.separation import printed_inks
     from solver.apps.separation.characterisation import characterisation_text
-    from solver.apps.separation.job import build_separator
+    from solver.apps.separation.job import print_model
 
-    separator = build_separator(settings, printed_inks(settings.inks))
-    text = characterisation_text(separator.model, settings.inks, separator.objective.black)
+    model, black = print_model(settings, printed_inks(settings.inks))
+    text = characterisation_text(model, settings.inks, black)
     path.write_text(text)
     sets = text.split("BEGIN_DATA\n")[1].split("END_DATA")[0].count("\n")
-    print(f"wrote {path} ({sets:,} patches, CGATS.17, {separator.model.measurement.label} absolute CIELAB)")
+    print(f"wrote {path} ({sets:,} patches, CGATS.17, {model.measurement.label} absolute CIELAB)")
 
 
 class ColourProgress:

@@ -25,13 +25,15 @@ from .recipe import Recipe
 
 @dataclass
 class FilmColour:
-    """Measures recipes on a paper; counts the tables it computed (`films`) and read (`reads`)."""
+    """Measures recipes on a paper; counts the films it computed (`films`), and the particle
+    tables it built (`wave_tables`) or read from the cache (`reads`)."""
 
     paper: float = PAPER_ALBEDO
     measurement: Measurement = DEFAULT
     cache: object = None                     # a TableCache for particle inks (None: the default)
     local_field: bool | None = None          # the pigments' local field (None: the tables' default)
     films: int = 0
+    wave_tables: int = 0
     reads: int = 0
     _tables: dict = field(default_factory=dict, repr=False)
 
@@ -57,7 +59,7 @@ class FilmColour:
 
             opts = BuildOptions(cache=self.cache or TableCache.default(), progress=False)
             table, _, built = get_or_build(request, opts)
-            self.films += int(built)
+            self.wave_tables += int(built)
             self.reads += int(not built)
         if len(self._tables) > 256:
             self._tables.clear()

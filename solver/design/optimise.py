@@ -31,6 +31,8 @@ def default_tolerance(aim) -> float:
     return {"paper": SOLID_TARGET, "solid": SOLID_TARGET, "overprint": OVERPRINT_TARGET}.get(aim.kind, REACHED_DE2000)
 #: a parameter closer than this (share of its range) to a bound sits at that bound
 AT_BOUND = 1e-3
+#: a particle ink's design reads (or builds) at most this many wave-optics tables
+PARTICLE_TABLES = 4
 #: the coarse grid's size (points in all) and how many of its best points start a local search
 GRID_SIZE = 100
 STARTS = 3
@@ -51,6 +53,7 @@ class DesignResult:
     evaluations: int = 0
     stack: tuple[Recipe, ...] = ()                # an overprint's inks, top first
     tolerance: float | None = None                # ΔE2000 of "reached" (None: default_tolerance)
+    particle_tables: int = 0                      # wave-optics tables built or read (particle inks)
 
     @property
     def recipe_label(self) -> str:
@@ -88,7 +91,7 @@ def bound_names(names, x, bounds) -> list[str]:
 
 
 def minimise_de(colour_of, aim_lab, bounds: np.ndarray, feasible=lambda x: True,
-                tol: float = 1e-10) -> tuple[np.ndarray, float, int]:
+                tol: float = 1e-10, start=None) -> tuple[np.ndarray, float, int]:
     """(x, ΔE2000, evaluations) minimising ΔE2000(colour_of(x), aim) over the box `bounds`."""
     aim = np.asarray(aim_lab, dtype=float)
     lo, span = bounds[:, 0], bounds[:, 1] - bounds[:, 0]
@@ -99,14 +102,20 @@ def minimise_de(colour_of, aim_lab, bounds: np.ndarray, feasible=lambda x: True,
         if not feasible(x):
             return 1e6
         count[0] += 1
-        return float(delta_e2000(colour_of(x), aim))
+        value = float(delta_e2000(colour_of(x), aim))
+        if not np.isfinite(value):              # never expected: a film is finite by construction
+            raise ArithmeticError(f"ΔE2000 is {value} at parameters {x}: a bug in the colour of a recipe")
+        return value
 
     def objective(u):
         return de(u) ** 2
 
     grid = np.linspace(0.05, 0.95, int(np.clip(np.floor(GRID_SIZE ** (1.0 / len(lo)) + 1e-9), 3, 9)))
-    starts = sorted(((de(np.array(u)), np.array(u)) for u in itertools.product(grid, repeat=len(lo))),
-                    key=lambda t: t[0])[:STARTS]
+    if start is None:
+        starts = sorted(((de(np.array(u)), np.array(u)) for u in itertools.product(grid, repeat=len(lo))),
+                        key=lambda t: t[0])[:STARTS]
+    else:                                    # polish from one point (a particle ink's next step)
+        starts = [(0.0, (np.asarray(start, dtype=float) - lo) / span)]
     best_u, best = None, np.inf
     for _, u0 in starts:
         res = minimize(objective, u0, method="L-BFGS-B", bounds=[(0.0, 1.0)] * len(lo),
@@ -117,14 +126,53 @@ def minimise_de(colour_of, aim_lab, bounds: np.ndarray, feasible=lambda x: True,
     return lo + best_u * span, best, count[0]
 
 
-def design_ink(aim, template: InkTemplate, colour: FilmColour) -> DesignResult:
-    """The recipe of `template`'s free parameters whose solid on the paper is closest to the aim."""
+def design_ink(aim, template: InkTemplate, colour: FilmColour, tolerance: float | None = None) -> DesignResult:
+    """The recipe of `template`'s free parameters whose solid on the paper is closest to the aim
+    (a particle ink: `design_particle_ink`)."""
+    if template.particles != "molecular":
+        return design_particle_ink(aim, template, colour, tolerance=tolerance)
     t0, films0 = time.perf_counter(), colour.films
     x, de, n = minimise_de(lambda v: colour.lab(template.recipe(v)), aim.lab, template.bounds(),
                            template.feasible)
     recipe = template.recipe(x)
     return DesignResult(aim, recipe, colour.lab(recipe), de, bound_names(template.names, x, template.bounds()),
                         colour.paper, time.perf_counter() - t0, colour.films - films0, n)
+
+
+def design_particle_ink(aim, template: InkTemplate, colour: FilmColour,
+                        max_tables: int = PARTICLE_TABLES, tolerance: float | None = None) -> DesignResult:
+    """A particle ink: each recipe costs a wave-optics table (through the cache), so the search
+    runs on the molecular ink of the same recipe (exact films, milliseconds) corrected by the
+    grains' colour offset Δ = Lab_particles(x) − Lab_molecular(x) measured at the current recipe:
+    x_{i+1} = argmin ΔE2000(Lab_molecular(x) + Δ_i, aim), one table per step (a fixed-point
+    iteration: Δ changes slowly with the recipe). Stops at the tolerance, when the recipe no
+    longer moves, or after `max_tables` tables; returns the best recipe measured with particles.
+    tolerance: the ΔE2000 that ends the search (None: `default_tolerance(aim)`)."""
+    from dataclasses import replace
+
+    t0, films0, reads0, waves0 = time.perf_counter(), colour.films, colour.reads, colour.wave_tables
+    molecular = replace(template, particles="molecular")
+    bounds = template.bounds()
+    offset, x, evaluations, best = np.zeros(3), None, 0, None
+    tolerance = default_tolerance(aim) if tolerance is None else tolerance
+    for _ in range(max_tables):
+        x_new, _, n = minimise_de(lambda v: colour.lab(molecular.recipe(v)) + offset, aim.lab, bounds,
+                                  template.feasible, start=x)
+        evaluations += n
+        if x is not None and np.all(np.abs(x_new - x) <= AT_BOUND * (bounds[:, 1] - bounds[:, 0])):
+            break
+        x = x_new
+        lab = colour.lab(template.recipe(x))
+        de = float(delta_e2000(lab, np.asarray(aim.lab)))
+        if best is None or de < best[1]:
+            best = (x, de, lab)
+        if de <= tolerance:
+            break
+        offset = lab - colour.lab(molecular.recipe(x))
+    x, de, lab = best
+    return DesignResult(aim, template.recipe(x), lab, de, bound_names(template.names, x, bounds), colour.paper,
+                        time.perf_counter() - t0, colour.films - films0, evaluations,
+                        particle_tables=colour.wave_tables + colour.reads - waves0 - reads0)
 
 
 def design_paper(aim, colour: FilmColour, wavelengths_nm, albedo_range=PAPER_RANGE) -> DesignResult:

@@ -46,7 +46,7 @@ def design_process_set(aims, colour: FilmColour, template: InkTemplate | None = 
     if paper_aim is not None:
         if design_paper_white:
             results["paper"] = design_paper(paper_aim, colour, wl)
-            colour = replace(colour, paper=results["paper"].paper, films=0, reads=0, _tables={})
+            colour = replace(colour, paper=results["paper"].paper, films=0, wave_tables=0, reads=0, _tables={})
         else:
             lab = colour.paper_lab(wl)
             results["paper"] = DesignResult(paper_aim, None, lab, float(delta_e2000(lab, np.asarray(paper_aim.lab))),

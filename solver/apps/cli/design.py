@@ -55,7 +55,7 @@ def add_parser(sub) -> None:
     lf = p.add_mutually_exclusive_group()
     lf.add_argument("--local-field", dest="local_field", action="store_true", default=None,
                     help="pigments with their grains' local field in the binder (the tables' default)")
-    lf.add_argument("--no-local-field", dest="local_field", action="store_false",
+    lf.add_argument("--no-local-field", dest="local_field", action="store_false", default=None,
                     help="pigments with their bulk permittivity (the paper's volume mix)")
     p.add_argument("--tolerance", type=float, default=None, metavar="DE2000",
                    help="ΔE2000 within which an aim counts as reached (default: 3 for ISO 12647-2 solids and "
@@ -92,6 +92,9 @@ def run(args) -> int:
         from solver.table.request import table_request
 
         table_request("Y10", args.particles)            # the particle spec checked now (one line)
+        if any(a.kind == "overprint" for a in aims):
+            raise DesignError("--particles: overprints are stacks of molecular layers only (as the ink BSDF "
+                              "prints them); design particle solids one at a time")
     from solver.design import FilmColour, design_ink, design_process_set
     from solver.table.cache import TableCache
 
@@ -99,7 +102,7 @@ def run(args) -> int:
     colour = FilmColour(PAPER_ALBEDO if args.paper is None else args.paper, measurement, cache, args.local_field)
     t0 = time.perf_counter()
     if custom:
-        results = {aims[0].name: design_ink(aims[0], template, colour)}
+        results = {aims[0].name: design_ink(aims[0], template, colour, args.tolerance)}
     else:
         wanted = _with_solids(aims)
         own = {a.colour: pigments for a in aims if a.kind == "solid"} if args.pigments else {}
@@ -113,6 +116,7 @@ def run(args) -> int:
         result.tolerance = args.tolerance
         print(report_lines(result, measurement.label))
     print(f"total {seconds:.1f} s, {colour.films} film tables computed"
+          + (f", {colour.wave_tables} particle tables built" if colour.wave_tables else "")
           + (f", {colour.reads} read from the cache" if colour.reads else ""))
     if output is not None:
         document = {"aims": {k: r.to_json() for k, r in results.items()},
@@ -159,7 +163,9 @@ def report_lines(result, measurement_label: str) -> str:
              f"  recipe  {result.recipe_label}" + (f"  on paper albedo {result.paper:.4f}"
                                                    if result.recipe is not None or result.stack else ""),
              f"  colour  L*a*b* ({lab[0]:.2f}, {lab[1]:.2f}, {lab[2]:.2f})  ΔE2000 {result.de2000:.2f}",
-             f"  cost    {result.seconds:.2f} s, {result.films} film tables, {result.evaluations} evaluations"]
+             (f"  cost    {result.seconds:.2f} s, {result.films} film tables, {result.evaluations} evaluations"
+              + (f", {result.particle_tables} particle tables (cache)" if result.particle_tables else ""))
+             if not result.stack else "  cost    measured with its inks' designs (the total below)"]
     if not result.reached:
         if result.stack:
             lines.append(f"  out of reach: ΔE2000 {result.de2000:.2f} (an overprint has no parameters of its own: "

@@ -14,8 +14,10 @@ largest chroma C_max(h, L*) on `LIGHTNESS_NODES` lightness levels, smoothed acro
 Gaussian of `HUE_SMOOTHING_BINS` slices: the hulls follow the samples' scatter) and
 interpolated bilinearly (periodic in hue). Convex slices give every ray from the neutral axis one exit, so the mapping
 below is continuous; where the true gamut is concave the hull overestimates it slightly and the
-separation takes the closest printable colour there (its ΔE is reported). The cusp of a hue is
-the (L*, C*) of its largest chroma.
+separation would take the closest printable colour there; `refined` checks the boundary against
+the print (targets on it separated, C_max scaled by the chroma reached) so that few mapped
+colours are missed (the report counts them). The cusp of a hue is the (L*, C*) of its largest
+chroma.
 
 **The mapping** (`map_to_gamut`, vectorised):
 
@@ -54,6 +56,7 @@ RAY_STEP_DE = 1.0               # marching step along a ray (CIELAB units) befor
 RAY_MAX_DE = 200.0
 BISECTIONS = 20
 HUE_SMOOTHING_BINS = 1.5       # σ of the hue smoothing of C_max (slices); the cusp's L* twice that
+REFINE_STEP_L = 3.0             # L* step of the boundary's check against the print (`refined`)
 NEUTRAL_CHROMA = 3.0            # C* below which a sample counts as neutral (the print's black)
 
 
@@ -63,7 +66,7 @@ class GamutSettings:
 
     knee: float = 0.8           # share of the print's boundary distance left untouched
     lightness_weight: float = 0.5   # focal point: 0 the hue's cusp L*, 1 the colour's own L*
-    margin_de: float = 0.5      # mapped colours land this much chroma (CIELAB units) inside the boundary
+    margin_de: float = 1.5      # mapped colours land this much chroma (CIELAB units) inside the boundary
 
     def __post_init__(self):
         if not 0.0 <= self.lightness_weight < 1.0:
@@ -192,6 +195,31 @@ class GamutBoundary:
         return cls(centres, levels, cmax, float(white_l), black_l,
                    _smooth_hue(levels[best][:, None], 2 * HUE_SMOOTHING_BINS)[:, 0],
                    cmax[np.arange(HUE_BINS), best])
+
+    def refined(self, printed_of) -> "GamutBoundary":
+        """The boundary checked against the print: targets on it (every slice, every
+        `REFINE_STEP_L` of L*) are separated by `printed_of` (CIELAB [N, 3] → the closest printed
+        CIELAB [N, 3]); where the print falls short — the hull spans a concave part of the
+        gamut — C_max is scaled by the chroma reached (projected on the slice) over the chroma
+        asked, the ratios smoothed across hue and interpolated in L*."""
+        Ls = np.arange(self.black_l + REFINE_STEP_L / 2, self.white_l - REFINE_STEP_L / 4, REFINE_STEP_L)
+        if Ls.size < 2:
+            return self
+        hh, LL = np.meshgrid(self.hue_deg, Ls, indexing="ij")
+        C = self.chroma_max(hh, LL)
+        asked = C > 1.0
+        ratio = np.ones_like(C)
+        if asked.any():
+            Lp, Cp, hp = to_lch(printed_of(from_lch(LL[asked], C[asked], hh[asked])))
+            reached = Cp * np.cos(np.radians(hp - hh[asked]))
+            ratio[asked] = np.clip(reached / C[asked], 0.0, 1.0)
+        ratio = _smooth_hue(ratio, HUE_SMOOTHING_BINS)
+        scale = np.stack([np.interp(self.lightness, Ls, r) for r in ratio])
+        cmax = np.where(self.cmax >= 0.0, self.cmax * scale, self.cmax)
+        best = np.argmax(cmax, axis=1)
+        return GamutBoundary(self.hue_deg, self.lightness, cmax, self.white_l, self.black_l,
+                             _smooth_hue(self.lightness[best][:, None], 2 * HUE_SMOOTHING_BINS)[:, 0],
+                             cmax[np.arange(HUE_BINS), best])
 
     def _hue_weights(self, h_deg):
         width = 360.0 / HUE_BINS

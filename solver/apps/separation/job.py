@@ -102,10 +102,15 @@ def print_image(rgb8: np.ndarray, settings: PrintSettings, printed: PrintedInks,
     return PrintedImage(settings, separation, grid, angles, textures)
 
 
+def print_model(settings: PrintSettings, printed: PrintedInks) -> tuple[PrintColourModel, int | None]:
+    """(the print's colour model, the index of its black ink or None)."""
+    model = PrintColourModel.build(printed, settings.paper, settings.model, settings.intent)
+    return model, black_index(model, settings.inks, settings.black_ink)
+
+
 def build_separator(settings: PrintSettings, printed: PrintedInks) -> Separator:
     """The print's model, gamut, black rule and solver from its settings."""
-    model = PrintColourModel.build(printed, settings.paper, settings.model, settings.intent)
-    black = black_index(model, settings.inks, settings.black_ink)
+    model, black = print_model(settings, printed)
     return Separator.build(model, black, settings.black, settings.mapping, settings.gamut, settings.solver,
                            settings.lut_nodes)
 

@@ -56,9 +56,11 @@ class Separator:
             raise ValueError(f"gamut mapping must be one of {', '.join(MAPPINGS)}; got {mapping!r}")
         if lut_nodes != 0 and not 2 <= lut_nodes <= 129:
             raise ValueError(f"lut_nodes must be 0 (no table) or in [2, 129], got {lut_nodes}")
-        boundary = GamutBoundary.build(model, rule.tac)
-        objective = InkingObjective.build(model, black, rule, boundary)
+        hull = GamutBoundary.build(model, rule.tac)
+        objective = InkingObjective.build(model, black, rule, hull)
         grid = CoverageGrid.build(objective, solver.nodes(model.n_inks))
+        boundary = hull.refined(lambda lab: separate_lab(model, lab, solver, grid, objective=objective).printed_lab)
+        objective = replace(objective, boundary=boundary)
         return cls(model, objective, boundary, grid, mapping, gamut, solver, lut_nodes)
 
     def with_rule(self, rule: BlackGeneration) -> "Separator":

@@ -1,0 +1,176 @@
+"""Separation like a press (solver.apps.separation): ColorChecker, gradients, speed, table error.
+
+    python -m benchmarks.bench_press [--quick] [--inks R30,Y30,B30]
+
+1. the 24 ColorChecker patches (colour-science's "ColorChecker 2005" reference, D50) printed
+   from their 8-bit sRGB values (perceptual gamut mapping, relative colorimetry, 45:0 D50 2°):
+   ΔE2000 of each print against the reference, mean and max, and for each patch over 3 the
+   reason: outside the sRGB gamut (its 8-bit value is not the reference), or outside the
+   print's gamut (the mapping moved it: by how much);
+2. smooth gradients (blue→white, black→dark blue, black→grey, green→black, red→white, 256
+   steps): monotone in L* after separation? largest step over the median step (ΔE2000 between
+   neighbours), the same for clipping to the closest printable colour (the old separation);
+3. a 12-Mpixel photograph (the demo photograph enlarged to 4000×3000 with 1-level noise, so
+   that it has hundreds of thousands of distinct colours) separated through the 3-D table:
+   wall time (table build and per-pixel interpolation) beside the machine yardstick;
+4. the 3-D table against separating every colour: ΔE2000 between the two prints of 20,000
+   random sRGB colours (median, 95th percentile, max) and the table's build time, per node count.
+
+Timings under load are not README numbers (the lead re-measures on a quiet machine).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+PHOTO = ROOT / "scenes" / "textures" / "printed_page_photo.png"
+RAMPS = {"blue→white": ((0, 0, 255), (255, 255, 255)), "black→dark blue": ((0, 0, 0), (0, 0, 128)),
+         "black→grey": ((0, 0, 0), (128, 128, 128)), "green→black": ((0, 255, 0), (0, 0, 0)),
+         "red→white": ((255, 0, 0), (255, 255, 255))}
+
+
+def _yardstick() -> float:
+    from benchmarks.yardstick import yardstick_s
+
+    return yardstick_s()
+
+
+def colorchecker_srgb8():
+    """(names, reference CIELAB D50 [24, 3], 8-bit sRGB [24, 3], in sRGB gamut [24])."""
+    import colour
+
+    cc = colour.CCS_COLOURCHECKERS["ColorChecker 2005"]
+    names = list(cc.data.keys())
+    xyY = np.array(list(cc.data.values()))
+    xyz = colour.xyY_to_XYZ(xyY)
+    lab = colour.XYZ_to_Lab(xyz, cc.illuminant)
+    rgb = colour.XYZ_to_sRGB(xyz, illuminant=cc.illuminant, chromatic_adaptation_transform="Bradford")
+    inside = np.all((rgb >= 0) & (rgb <= 1), axis=1)
+    return names, lab, np.round(np.clip(rgb, 0, 1) * 255).astype(np.uint8), inside
+
+
+def colorchecker(separator) -> None:
+    from solver.apps.separation import delta_e2000, srgb8_to_lab
+
+    names, ref, rgb8, inside = colorchecker_srgb8()
+    sep, source = separator.separate_srgb(rgb8 / 255.0)
+    de = delta_e2000(sep.printed_lab, ref)
+    moved = delta_e2000(sep.target_lab, source)
+    de_srgb = delta_e2000(srgb8_to_lab(rgb8), ref)
+    print(f"\n1. ColorChecker 2005 (24 patches) printed from 8-bit sRGB: ΔE2000 print vs reference mean "
+          f"{de.mean():.2f}, max {de.max():.2f} (aims: mean ≤ 3, max ≤ 8)")
+    print("   patch                 ΔE2000  sRGB-8 vs ref  moved by mapping  why")
+    for i in np.argsort(-de):
+        if de[i] <= 3.0:
+            continue
+        why = []
+        if not inside[i]:
+            why.append("outside sRGB")
+        if moved[i] > 0.5:
+            why.append(f"outside the print's gamut (mapped {moved[i]:.1f})")
+        print(f"   {names[i]:20s} {de[i]:7.2f}  {de_srgb[i]:13.2f}  {moved[i]:16.2f}  {', '.join(why) or '-'}")
+
+
+def _ramp(a, b, n=256):
+    t = np.linspace(0.0, 1.0, n)[:, None]
+    return np.round(np.asarray(a, float) * (1 - t) + np.asarray(b, float) * t)
+
+
+def gradients(separator) -> None:
+    from solver.apps.separation import delta_e2000, separate_lab, srgb8_to_lab
+
+    print("\n2. gradients (256 steps): monotone in L*? largest / median step ΔE2000 (perceptual | clip)")
+    for name, (a, b) in RAMPS.items():
+        rgb = _ramp(a, b)
+        source = srgb8_to_lab(rgb)
+        sep, _ = separator.separate_srgb(rgb / 255.0)
+        clip = separate_lab(separator.model, source)
+        row = []
+        for printed in (sep.printed_lab, clip.printed_lab):
+            dl = np.diff(printed[:, 0]) * np.sign(source[-1, 0] - source[0, 0])
+            st = delta_e2000(printed[1:], printed[:-1])
+            row.append(f"monotone {'yes' if dl.min() > -0.02 else 'NO '} (min ΔL* {dl.min():+.3f}), "
+                       f"max/median step {st.max() / np.median(st):5.2f}")
+        print(f"   {name:16s} {row[0]} | {row[1]}")
+
+
+def big_image(width=4000, height=3000):
+    from PIL import Image
+
+    im = Image.open(PHOTO).convert("RGB").resize((width, height), Image.Resampling.BILINEAR)
+    a = np.asarray(im, dtype=np.int16)
+    noise = np.random.default_rng(0).integers(-1, 2, a.shape, dtype=np.int16)
+    return np.clip(a + noise, 0, 255).astype(np.uint8)
+
+
+def speed(separator, quick: bool) -> None:
+    from dataclasses import replace
+
+    from solver.apps.separation import separate_image
+    from solver.apps.separation.image import unique_colours
+
+    img = big_image(2000, 1500) if quick else big_image()
+    n_colours = unique_colours(img)[0].shape[0]
+    y0 = _yardstick()
+    print(f"\n3. a {img.shape[1]}×{img.shape[0]} image ({img.shape[0] * img.shape[1] / 1e6:.0f} Mpixel, "
+          f"{n_colours:,} distinct colours); yardstick {y0:.2f} s")
+    for nodes in (17, 33):
+        s = replace(separator, lut_nodes=nodes)
+        t0 = time.perf_counter()
+        result = separate_image(s, img)
+        dt = time.perf_counter() - t0
+        print(f"   {nodes}³ table: {dt:6.1f} s ({dt / y0:.1f} yardsticks); " + " | ".join(result.report.lines()))
+    print(f"   yardstick after: {_yardstick():.2f} s")
+
+
+def table_error(separator, quick: bool) -> None:
+    from solver.apps.separation import SeparationLUT, delta_e2000
+
+    x = np.random.default_rng(5).random((4000 if quick else 20000, 3))
+    t0 = time.perf_counter()
+    direct, _ = separator.separate_srgb(x)
+    t_direct = time.perf_counter() - t0
+    print(f"\n4. 3-D table vs separating every colour ({len(x):,} random sRGB colours, direct {t_direct:.1f} s):")
+    for nodes in (9, 17, 33):
+        t0 = time.perf_counter()
+        lut, _ = SeparationLUT.build(separator, nodes)
+        t_build = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        cov = lut(x)
+        t_use = time.perf_counter() - t0
+        de = delta_e2000(separator.model.lab(cov), direct.printed_lab)
+        print(f"   {nodes:2d}³ nodes: build {t_build:6.1f} s, interpolate {t_use * 1e3:6.1f} ms; ΔE2000 median "
+              f"{np.median(de):.3f}, p95 {np.percentile(de, 95):.3f}, max {de.max():.2f}")
+
+
+def main(argv=None) -> None:
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--quick", action="store_true", help="a 3-Mpixel image, fewer colours")
+    p.add_argument("--inks", default=None, help="ink specs (default: the print command's)")
+    args = p.parse_args(argv if argv is not None else sys.argv[1:] if __name__ == "__main__" else [])
+    from solver.apps.separation import PrintSettings, printed_inks
+    from solver.apps.separation.job import build_separator
+    from solver.apps.separation.printset import DEFAULT_INKS, parse_ink_list
+
+    inks = parse_ink_list(args.inks) if args.inks else DEFAULT_INKS
+    settings = PrintSettings(inks=inks)
+    t0 = time.perf_counter()
+    separator = build_separator(settings, printed_inks(inks))
+    b = separator.objective.black
+    print(f"inks {', '.join(inks)} (black: {inks[b] if b is not None else 'none'}), {settings.model}, paper "
+          f"{settings.paper:g}, {separator.model.measurement.label}, relative; gamut + start grid "
+          f"{time.perf_counter() - t0:.1f} s; print's black L* {separator.boundary.black_l:.1f}")
+    colorchecker(separator)
+    gradients(separator)
+    table_error(separator, args.quick)
+    speed(separator, args.quick)
+
+
+if __name__ == "__main__":
+    main()

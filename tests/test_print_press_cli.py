@@ -1,0 +1,126 @@
+"""`python -m inkbsdf.print` as a press: images as files hold them (transparency, 16 bits, grey,
+embedded ICC profiles), the CGATS characterisation chart, black-generation options and their
+bad values (one line, exit 2)."""
+
+import struct
+import zlib
+
+import numpy as np
+import pytest
+
+from conftest import run_main
+from inkbsdf.apps.print import main
+from solver.apps.separation import ImageWarning, read_image
+from test_separation_press import read_cgats
+
+
+def run(args, capsys):
+    return run_main(main, args, capsys)
+
+
+def png16(path, rgb16):
+    """The test's own 16-bit RGB PNG writer (PNG spec: colour type 2, bit depth 16, filter 0)."""
+    h, w, _ = rgb16.shape
+    raw = b"".join(b"\x00" + np.asarray(rgb16[r], dtype=">u2").tobytes() for r in range(h))
+
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+
+    path.write_bytes(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 16, 2, 0, 0, 0))
+                     + chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
+    return path
+
+
+def test_transparency_composited_over_paper(tmp_path):
+    from PIL import Image
+
+    rgba = np.zeros((2, 2, 4), dtype=np.uint8)
+    rgba[..., :3] = (200, 40, 10)
+    rgba[..., 3] = ((255, 0), (128, 255))
+    Image.fromarray(rgba, "RGBA").save(tmp_path / "a.png")
+    image = read_image(tmp_path / "a.png")
+    a = rgba[..., 3:4] / 255.0
+    want = np.round(rgba[..., :3] * a + 255 * (1 - a))
+    np.testing.assert_array_equal(image.rgb8, want)
+    assert len(image.notes) == 1 and "paper white" in image.notes[0] and "50.0%" in image.notes[0]
+
+
+def test_sixteen_bit_colour_and_grey(tmp_path):
+    from PIL import Image
+
+    rgb16 = np.random.default_rng(2).integers(0, 65536, (3, 4, 3))
+    image = read_image(png16(tmp_path / "c16.png", rgb16))
+    assert np.abs(image.rgb8.astype(float) - rgb16 / 257.0).max() <= 1.0
+    assert any("16-bit" in n for n in image.notes)
+    grey = np.array([[0, 1000, 32896], [40000, 65535, 12345]], dtype=np.uint16)
+    Image.fromarray(grey).save(tmp_path / "g16.png")
+    image = read_image(tmp_path / "g16.png")
+    np.testing.assert_array_equal(image.rgb8[..., 0], np.round(grey / 65535 * 255))
+    assert np.all(image.rgb8[..., 0] == image.rgb8[..., 2]) and any("16-bit grey" in n for n in image.notes)
+
+
+def test_embedded_icc_profile_is_honoured(tmp_path):
+    """A CIELAB TIFF with its CIELAB (D50) profile: ImageCms's sRGB agrees with colour-science's
+    conversion of the same CIELAB (Bradford D50 → D65) within 2 codes."""
+    import colour
+    from PIL import Image, ImageCms
+
+    lab = np.array([[50.0, 20.0, -30.0], [70.0, -20.0, 40.0], [30.0, 10.0, 10.0], [85.0, 0.0, 0.0]])
+    enc = np.stack([np.round(lab[:, 0] * 255 / 100), np.round(lab[:, 1]) % 256, np.round(lab[:, 2]) % 256], -1)
+    im = Image.fromarray(enc.reshape(1, 4, 3).astype(np.uint8), "LAB")
+    path = tmp_path / "lab.tif"
+    im.save(path, icc_profile=ImageCms.ImageCmsProfile(ImageCms.createProfile("LAB")).tobytes())
+    image = read_image(path)
+    d50 = colour.CCS_ILLUMINANTS["CIE 1931 2 Degree Standard Observer"]["D50"]
+    lab_q = np.stack([enc[:, 0] * 100 / 255, (enc[:, 1] + 128) % 256 - 128, (enc[:, 2] + 128) % 256 - 128], -1)
+    want = colour.XYZ_to_sRGB(colour.Lab_to_XYZ(lab_q, d50), illuminant=d50, chromatic_adaptation_transform="Bradford")
+    assert np.abs(image.rgb8[0].astype(float) - 255 * np.clip(want, 0, 1)).max() <= 2.0
+    assert any("ICC profile" in n for n in image.notes)
+
+
+def test_unusable_icc_profile_warns(tmp_path):
+    from PIL import Image
+
+    Image.fromarray(np.full((2, 2, 3), 90, np.uint8)).save(tmp_path / "bad.png", icc_profile=b"not a profile" * 20)
+    with pytest.warns(ImageWarning, match="cannot be applied"):
+        image = read_image(tmp_path / "bad.png")
+    assert np.all(image.rgb8 == 90)
+
+
+def test_notes_printed_and_bad_image_one_line(tmp_path, capsys):
+    from PIL import Image
+
+    rgba = np.full((6, 8, 4), 255, np.uint8)
+    rgba[..., 3] = 0
+    Image.fromarray(rgba, "RGBA").save(tmp_path / "clear.png")
+    status, out, err = run([tmp_path / "clear.png", "--inks", "R30", "--lut", "0", "-o", tmp_path / "p.xml"], capsys)
+    assert status == 0 and "transparency composited over paper white" in out
+    (tmp_path / "broken.jpg").write_bytes(b"\xff\xd8\xff\xe0 truncated")
+    status, _, err = run([tmp_path / "broken.jpg", "--inks", "R30", "-o", tmp_path / "q.xml"], capsys)
+    assert status == 2 and len(err.strip().splitlines()) == 1 and "broken.jpg" in err, err
+
+
+def test_characterisation_written_alone(tmp_path, capsys):
+    out_file = tmp_path / "chart" / "press.txt"
+    status, out, err = run(["--characterisation", out_file, "--inks", "R30,Y30,B30"], capsys)
+    assert status == 0, err
+    keywords, fields, rows = read_cgats(out_file.read_text())
+    assert fields[:4] == ["SAMPLE_ID", "3CLR_1", "3CLR_2", "3CLR_3"] and fields[-3:] == ["LAB_L", "LAB_A", "LAB_B"]
+    assert int(keywords["NUMBER_OF_SETS"]) == len(rows) == 9 ** 3
+    assert f"{len(rows):,} patches" in out
+
+
+BAD = [(["--tac", "50"], "--tac"), (["--black-strength", "2"], "--black-strength"),
+       (["--black-start", "1"], "--black-start"), (["--black-ink", "Y30"], "--black-ink"),
+       (["--lut", "1"], "--lut"), (["--gamut-knee", "1.5"], "--gamut-knee"), (["--black", "max"], "--black")]
+
+
+@pytest.mark.parametrize("extra,word", BAD, ids=[" ".join(b[0]) for b in BAD])
+def test_bad_press_options_one_line(tmp_path, capsys, extra, word):
+    from PIL import Image
+
+    Image.fromarray(np.zeros((4, 4, 3), np.uint8)).save(tmp_path / "i.png")
+    status, _, err = run([tmp_path / "i.png", "--inks", "R30,B30", *extra, "-o", tmp_path / "p.xml"], capsys)
+    lines = err.strip().splitlines()
+    assert status == 2 and len(lines) == 1 and word in lines[0], err
+    assert not (tmp_path / "p.xml").exists()
