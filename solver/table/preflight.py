@@ -26,12 +26,21 @@ log = logging.getLogger("inkbsdf.tables")
 #: buffers) — fitted to 160 MB at 64×64×32 and 735 MB at 128×128×64 (docs/tables.md)
 SOLVE_BASE_BYTES = 80e6
 SOLVE_BYTES_PER_VOXEL = 620.0
-#: wave solve time per operator application per voxel·log2(voxels), and applications per solve
-SECONDS_PER_VOXEL_LOG = 3e-9
-APPLICATIONS_PER_SOLVE = 15
-#: a rough top's solves (above and below) converge slowly: 78.8 applications per solve pair
-#: against 2 × 14.0 for the flat layer (R15, 300-nm spheres, default preset, Fig. 7 run)
-ROUGH_TOP_SOLVE_FACTOR = 2.8
+#: wave solve CPU time per operator application per voxel·log2(voxels), everything of a table
+#: unit included (preparation, orders, energy), and applications per solve: measured per unit
+#: (solve_unit, one FFT thread, Y7.5+B7.5 300-nm spheres at 580 nm, 14 solves of 13.4
+#: applications): 12.2 ms per application at 64×64×32, 4.7 ms at 48×48×24 (5.5e-9 s per
+#: voxel·log2 voxel on this project's 2-core VM, under load, yardstick 1.6 s; docs/tables.md)
+SECONDS_PER_VOXEL_LOG = 5.5e-9
+APPLICATIONS_PER_SOLVE = 14
+#: a rough top's solve (above and below: both counted) against the flat layer's, in CPU time:
+#: with the layered preconditioner (solver/wave/layered.py) 35–40 applications per solve pair
+#: against 2 × 12.8–18.1 for the flat twin, plus the preconditioner's set-up and one more
+#: lateral FFT per application (R15, 300-nm spheres, 500 and 740 nm, 48×48×24 and 64×64×32:
+#: unit CPU 3.0–3.2× the flat twin's, i.e. 1.5–1.6 per solve)
+ROUGH_TOP_SOLVE_FACTOR = 1.6
+#: starting a local pool (spawned workers importing the solver), seconds
+POOL_START_S = 2.0
 #: thin-film tier: seconds per (wavelength × angle), measured 0.2 s for 41 × 1000
 MOLECULAR_SECONDS_PER_SAMPLE = 5e-6
 #: grains smaller than this share of a voxel are only an average of the voxels they touch
@@ -102,9 +111,11 @@ def estimate(request: TableRequest, workers: int = 1) -> Estimate:
     geometry_s = sum(c.seconds for c in geoms)
     geometry_bytes = max((c.peak_bytes for c in geoms), default=0)
     solve_bytes = SOLVE_BASE_BYTES + SOLVE_BYTES_PER_VOXEL * voxels
-    solves = w.realizations * nl * int(g.solved_mask.sum()) * w.azimuths * (2 if needs_below(request) else 1)
+    solved_wl = len(request.solved_wavelength_indices)          # the rest are film-guided (spectral.py)
+    solves = w.realizations * solved_wl * int(g.solved_mask.sum()) * w.azimuths * (2 if needs_below(request) else 1)
     per_solve = solve_seconds(w.grid) * (ROUGH_TOP_SOLVE_FACTOR if request.has_rough_top else 1.0)
-    seconds = (geometry_s * w.realizations + solves * per_solve) / max(1, workers)
+    seconds = (geometry_s * w.realizations + solves * per_solve) / max(1, workers) \
+        + (POOL_START_S if workers > 1 else 0.0)
     return Estimate(int(table), int(max(solve_bytes, geometry_bytes) + 3 * table), int(grains),
                     int(solves), float(seconds), float(geometry_s))
 
