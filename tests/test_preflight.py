@@ -127,7 +127,8 @@ def test_estimate_counts_the_solves_of_the_solved_wavelengths_at_the_measured_co
     import math
 
     monkeypatch.setattr(preflight, "POOL_START_S", 0.0)
-    kw = dict(wavelengths_nm=tuple(float(w) for w in range(400, 701, 20)), grid=(32, 32, 16), realizations=3)
+    kw = dict(wavelengths_nm=tuple(float(w) for w in range(400, 701, 20)), grid=(32, 32, 16), realizations=3,
+              tier="full")
     every = preflight.estimate(table_request("R15", "sphere:300", wavelength_stride=1, **kw))
     third = preflight.estimate(table_request("R15", "sphere:300", wavelength_stride=3, **kw))
     rough = preflight.estimate(table_request("R15", "sphere:300:rough", wavelength_stride=3, **kw))
@@ -142,3 +143,20 @@ def test_estimate_counts_the_solves_of_the_solved_wavelengths_at_the_measured_co
     monkeypatch.setattr(preflight, "SECONDS_PER_VOXEL_LOG", 2 * preflight.SECONDS_PER_VOXEL_LOG)
     doubled = preflight.estimate(table_request("R15", "sphere:300", wavelength_stride=3, **kw))
     assert doubled.seconds - geometry == pytest.approx(2 * (third.seconds - geometry), rel=1e-9)
+
+
+def test_auto_tier_estimate_weighs_the_tiers_the_probe_picks():
+    """Tier auto: small grains mostly end in Born or the effective medium (the probe, then a
+    Born solve per sample: far cheaper than full), large grains and rough tops in the full solve
+    (its cost plus the probe's Born solves)."""
+    kw = dict(grid=(32, 32, 16), realizations=3)
+    small = preflight.estimate(table_request("R15", "sphere:30", **kw))
+    small_full = preflight.estimate(table_request("R15", "sphere:30", tier="full", **kw))
+    large = preflight.estimate(table_request("R15", "sphere:450", **kw))
+    large_full = preflight.estimate(table_request("R15", "sphere:450", tier="full", **kw))
+    assert preflight.full_tier_share(table_request("R15", "sphere:30")) == 0.0
+    assert preflight.full_tier_share(table_request("R15", "sphere:200")) == pytest.approx(0.5)
+    assert preflight.full_tier_share(table_request("R15", "sphere:100:rough")) == 1.0
+    solving = lambda est: est.seconds - 3 * est.geometry_seconds       # one worker: no pool to start
+    assert solving(small) < 0.5 * solving(small_full)
+    assert solving(large_full) < solving(large) < 1.1 * solving(large_full)

@@ -41,6 +41,16 @@ APPLICATIONS_PER_SOLVE = 14
 ROUGH_TOP_SOLVE_FACTOR = 1.6
 #: starting a local pool (spawned workers importing the solver), seconds
 POOL_START_S = 2.0
+#: tier auto: the probe solves realization 0 at this many wavelengths fully and by Born
+#: (tier_choice.probe_wavelength_indices); a Born solve costs one application plus the solve's
+#: fixed work (preparation, orders, energy: ≈ 2 applications' worth in the unit profile)
+PROBE_WAVELENGTHS = 3
+BORN_SOLVE_APPLICATIONS = 3.0
+#: the share of tier-auto cells that end with the full solve, by the grains' (volume-equivalent)
+#: diameter: none up to FULL_FROM_NM, all from FULL_ALL_NM, linear between; rough tops always.
+#: Measured on the preview Fig. 7 (docs/data/fig7_preview.csv, column `tier`, 21 rows each):
+#: 30 nm 0/21, 100 nm 1–4/21, 200 nm 6–12/21, 300 nm 17–20/21, 450 nm and rough tops 21/21
+FULL_FROM_NM, FULL_ALL_NM = 100.0, 300.0
 #: thin-film tier: seconds per (wavelength × angle), measured 0.2 s for 41 × 1000
 MOLECULAR_SECONDS_PER_SAMPLE = 5e-6
 #: grains smaller than this share of a voxel are only an average of the voxels they touch
@@ -114,10 +124,29 @@ def estimate(request: TableRequest, workers: int = 1) -> Estimate:
     solved_wl = len(request.solved_wavelength_indices)          # the rest are film-guided (spectral.py)
     solves = w.realizations * solved_wl * int(g.solved_mask.sum()) * w.azimuths * (2 if needs_below(request) else 1)
     per_solve = solve_seconds(w.grid) * (ROUGH_TOP_SOLVE_FACTOR if request.has_rough_top else 1.0)
-    seconds = (geometry_s * w.realizations + solves * per_solve) / max(1, workers) \
-        + (POOL_START_S if workers > 1 else 0.0)
+    solve_s = solves * per_solve
+    if w.tier in ("auto", "born"):
+        born = solves * solve_seconds(w.grid) * BORN_SOLVE_APPLICATIONS / APPLICATIONS_PER_SOLVE
+        probe = solves * min(PROBE_WAVELENGTHS, solved_wl) / (solved_wl * w.realizations)   # probe solves
+        if w.tier == "born":
+            solve_s = born
+        else:
+            p = full_tier_share(request)
+            solve_s = p * solve_s + (1 - p) * (born + probe * per_solve) + probe * per_solve * (
+                BORN_SOLVE_APPLICATIONS / APPLICATIONS_PER_SOLVE)
+    seconds = (geometry_s * w.realizations + solve_s) / max(1, workers) + (POOL_START_S if workers > 1 else 0.0)
     return Estimate(int(table), int(max(solve_bytes, geometry_bytes) + 3 * table), int(grains),
                     int(solves), float(seconds), float(geometry_s))
+
+
+def full_tier_share(request: TableRequest) -> float:
+    """The expected share of tier auto ending with the full solve (FULL_FROM_NM, FULL_ALL_NM):
+    the largest over the request's particle layers; 1 with a rough top."""
+    if request.has_rough_top:
+        return 1.0
+    sizes = [layer.particles.diameter_nm for layer in request.layers if layer.particles is not None]
+    d = max(sizes, default=0.0)
+    return float(min(1.0, max(0.0, (d - FULL_FROM_NM) / (FULL_ALL_NM - FULL_FROM_NM))))
 
 
 def solve_seconds(grid: tuple[int, int, int]) -> float:
