@@ -180,7 +180,7 @@ def lut_nodes(args) -> int:
 
 def scene_xml(result, texture_folder: str, texture_files) -> str:
     """The printed page: a sheet of paper (the print plus a margin) with the print on it."""
-    from inkbsdf.apps.pagescene import Stage, print_shape_xml, scene_document, stage_xml
+    from inkbsdf.apps.pagescene import Stage, ink_source_xml, print_shape_xml, scene_document, stage_xml
 
     s = result.settings
     w, h = result.grid.size_cm
@@ -204,16 +204,6 @@ def scene_xml(result, texture_folder: str, texture_files) -> str:
     comment = ("A printed image: written by python -m inkbsdf.print.\n     Inks named in the scene (built "
                "through the table cache). Parameters: width, height, spp, paper (albedo). Units: cm.")
     return scene_document(comment, body, defaults={"paper": f"{s.paper:g}"})
-
-
-def ink_source_xml(label: str) -> str:
-    """The `ink` BSDF parameters naming one ink of the print (its spec, and its thickness when
-    the ink list gives one)."""
-    from solver.apps.separation.printset import split_ink
-
-    spec, thickness_nm = split_ink(label)
-    xml = f'<string name="ink" value="{spec}"/>'
-    return xml if thickness_nm is None else xml + f'<float name="thickness" value="{thickness_nm:g}"/>'
 
 
 def _sheet_transform(stage) -> str:
