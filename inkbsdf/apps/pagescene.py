@@ -117,7 +117,7 @@ def ink_bsdf_xml(sources, coverages, paper: str = "$paper", coverage_model: str 
     lines = [f'{indent}<bsdf type="ink">']
     for n, (source, coverage) in enumerate(zip(sources, coverages), start=1):
         number = str(n) if len(sources) > 1 else ""
-        lines.append(indent + "    " + re.sub(r'name="(ink|filename)"', rf'name="\g<1>{number}"', source))
+        lines.append(indent + "    " + re.sub(r'name="(ink|filename|thickness)"', rf'name="\g<1>{number}"', source))
         if coverage is not None:
             lines.append(indent + "    " + coverage.replace('name="coverage"', f'name="coverage{number}"', 1))
     lines.append(f'{indent}    <float name="paper" value="{paper}"/>')

@@ -33,6 +33,7 @@ MAPPINGS = ("perceptual", "clip")
 DEFAULT_MAPPING = "perceptual"
 DEFAULT_LUT_NODES = 33
 MAPPED_DE = 0.5                     # ΔE76 a colour must move to count as gamut-mapped
+BLACK_MARGIN_L = 0.2                # L* above the darkest neutral reached where the mapping puts black
 
 
 @dataclass(frozen=True)
@@ -59,7 +60,12 @@ class Separator:
         hull = GamutBoundary.build(model, rule.tac)
         objective = InkingObjective.build(model, black, rule, hull)
         grid = CoverageGrid.build(objective, solver.nodes(model.n_inks))
-        boundary = hull.refined(lambda lab: separate_lab(model, lab, solver, grid, objective=objective).printed_lab)
+        printed_of = lambda lab: separate_lab(model, lab, solver, grid, objective=objective).printed_lab  # noqa: E731
+        boundary = hull.refined(printed_of)
+        # the black point is the darkest neutral the separation reaches (under the TAC, with the
+        # black rule's starts), a little above: neutrals below it would all print alike
+        reached = float(printed_of(np.array([[boundary.black_l, 0.0, 0.0]]))[0, 0])
+        boundary = boundary.with_black(reached + BLACK_MARGIN_L)
         objective = replace(objective, boundary=boundary)
         return cls(model, objective, boundary, grid, mapping, gamut, solver, lut_nodes)
 
