@@ -156,9 +156,9 @@ def main(argv=None) -> None:
     args = p.parse_args(argv if argv is not None else sys.argv[1:] if __name__ == "__main__" else [])
     from solver.apps.separation import PrintSettings, printed_inks
     from solver.apps.separation.job import build_separator
-    from solver.apps.separation.printset import DEFAULT_INKS, parse_ink_list
+    from solver.apps.separation.printset import default_inks, parse_ink_list
 
-    inks = parse_ink_list(args.inks) if args.inks else DEFAULT_INKS
+    inks = parse_ink_list(args.inks) if args.inks else default_inks()
     settings = PrintSettings(inks=inks)
     t0 = time.perf_counter()
     separator = build_separator(settings, printed_inks(inks))
