@@ -105,6 +105,13 @@ def default_table(workers: int, baseline: str | None = PREVIOUS_ROUND) -> dict:
               f"(target ≤ 60 s)")
     else:
         print(f"  wall: {new:.0f} s (target ≤ 60 s)")
+    from solver.table import preflight
+
+    from .bench_fresh import YARDSTICK, yardstick
+
+    est = preflight.estimate(req, workers)
+    print(f"  preflight estimate {est.seconds:.0f} s for {est.solves} solves: measured/estimate "
+          f"{new / est.seconds:.2f} (aim: within ±30 %); yardstick {yardstick(YARDSTICK):.2f} s")
     print("  stages (s): " + ", ".join(f"{k} {v:.1f}" for k, v in meta["timings_s"].items()))
     solves, apps = stats["solves"], stats["applications_mean"]
     per_solve = stats["solve_seconds_total"] / max(solves, 1)

@@ -262,26 +262,29 @@ def _wait_for(stream, text, proc, timeout_s):
         timer.cancel()
 
 
-def _interrupted(argv, stream, text, settle=lambda proc: None):
+def _interrupted(argv, stream, text, settle=lambda proc: None, sig=None):
     """Start the CLI, wait for `text` on its stdout or stderr (`stream`), call settle(proc),
-    send SIGINT: exit 130 within 3 s, "interrupted" and no traceback on stderr. Returns what
-    settle returned."""
+    send `sig` (SIGINT by default): exit 128 + sig (130 for SIGINT) within 3 s, one line
+    "interrupted" (SIGTERM: "terminated") and no traceback on stderr. Returns what settle
+    returned."""
     import signal
     import time
 
+    sig = signal.SIGINT if sig is None else sig
     proc = _start_cli(argv)
     try:
         _wait_for(getattr(proc, stream), text, proc, 120)
         state = settle(proc)
         t0 = time.perf_counter()
-        proc.send_signal(signal.SIGINT)
+        proc.send_signal(sig)
         _, err = proc.communicate(timeout=30)
         seconds = time.perf_counter() - t0
     finally:
         proc.kill()
         proc.wait()
-    assert proc.returncode == 130, err
-    assert "Traceback" not in err and "interrupted" in err, err
+    word = "terminated" if sig == signal.SIGTERM else "interrupted"
+    assert proc.returncode == 128 + sig, err
+    assert "Traceback" not in err and f"{word}: stopped" in err, err
     assert seconds < 3.0, f"took {seconds:.1f} s to stop"
     return state
 
@@ -300,10 +303,12 @@ def test_ctrl_c_during_render_exits_130_promptly(tmp_path, ink_tables):
 
 
 @pytest.mark.slow
-def test_ctrl_c_during_scene_load_stops_table_workers(tmp_path):
-    """SIGINT while a scene load builds a particle table on 2 worker processes: exit 130
-    promptly, no traceback (neither ours nor the workers'), and no worker left running."""
+def test_sigterm_during_scene_load_stops_table_workers(tmp_path):
+    """SIGTERM (SIGINT's path: the render test above) while a scene load builds a particle
+    table on 2 worker processes: exit 143 promptly, one line, no traceback (neither ours nor
+    the workers'), and no worker left running."""
     import os
+    import signal
     import time
 
     def workers_started(proc):
@@ -317,7 +322,7 @@ def test_ctrl_c_during_scene_load_stops_table_workers(tmp_path):
     bsdf = ('<string name="ink" value="Y7.5+B7.5"/><string name="particles" value="sphere:300"/>'
             f'<string name="cache" value="{tmp_path / "cache"}"/>')
     children = _interrupted([str(bare_scene(tmp_path, bsdf)), "--workers", "2", "-o", str(tmp_path / "x.exr")],
-                            "stderr", "computing table", workers_started)
+                            "stderr", "computing table", workers_started, sig=signal.SIGTERM)
     deadline = time.monotonic() + 10
     while any(os.path.exists(f"/proc/{c}") for c in children) and time.monotonic() < deadline:
         time.sleep(0.1)

@@ -268,8 +268,8 @@ def run(argv=None) -> int:
         except BaseException as exc:      # a bug: re-raised in the main thread, with its traceback
             outcome["error"] = exc
 
-    # after os._exit below, multiprocessing's resource tracker unlinks a table pool's semaphores
-    # (as it should) and would warn that it had to: that warning is expected, not shown
+    # after os._exit below, multiprocessing's resource tracker unlinks the semaphores left (tqdm's
+    # lock of its progress bars) as it should, and would warn that it had to: expected, not shown
     sys.warnoptions.append("ignore:resource_tracker:UserWarning")
     worker = threading.Thread(target=work, name="inkbsdf-render", daemon=True)
     try:

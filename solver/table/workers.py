@@ -21,6 +21,7 @@ from __future__ import annotations
 import ctypes
 import multiprocessing
 import os
+import pickle
 import signal
 import traceback
 from dataclasses import dataclass
@@ -73,7 +74,7 @@ def _serve(conn: Connection, parent_pid: int) -> None:
         try:
             reply = (True, fn(unit))
         except BaseException as exc:       # the parent decides; this worker stays usable
-            reply = (False, exc, traceback.format_exc())
+            reply = (False, _portable(exc), traceback.format_exc())
         try:
             conn.send(reply)
         except (BrokenPipeError, OSError):
@@ -83,12 +84,23 @@ def _serve(conn: Connection, parent_pid: int) -> None:
                                            f"back from its worker: {exc}"), traceback.format_exc()))
 
 
+def _portable(exc: BaseException) -> BaseException:
+    """`exc` if it survives pickling both ways (the parent must be able to rebuild it), else a
+    RuntimeError saying what it was."""
+    try:
+        pickle.loads(pickle.dumps(exc))
+        return exc
+    except Exception:
+        return RuntimeError(f"{type(exc).__name__}: {exc}")
+
+
 @dataclass
 class _Worker:
     process: Any              # multiprocessing's SpawnProcess
     conn: Connection
 
     def lost(self) -> WorkerLost:
+        self.process.join(JOIN_S)          # its pipe can close before its exit is seen
         code = self.process.exitcode
         how = (f"killed by signal {-code}" + (" (out of memory?)" if -code == signal.SIGKILL else "")
                if code is not None and code < 0 else f"exit code {code}")
