@@ -14,7 +14,9 @@
    that it has hundreds of thousands of distinct colours) separated through the 3-D table:
    wall time (table build and per-pixel interpolation) beside the machine yardstick;
 4. the 3-D table against separating every colour: ΔE2000 between the two prints of 20,000
-   random sRGB colours (median, 95th percentile, max) and the table's build time, per node count.
+   random sRGB colours (median, 95th percentile, max) and the table's build time, per node count;
+5. the perceptual mapping's knobs (focal point's lightness weight, knee, margin): ColorChecker
+   ΔE2000 and the worst gradient's monotonicity and largest step.
 
 Timings under load are not README numbers (the lead re-measures on a quiet machine).
 """
@@ -149,6 +151,34 @@ def table_error(separator, quick: bool) -> None:
               f"{np.median(de):.3f}, p95 {np.percentile(de, 95):.3f}, max {de.max():.2f}")
 
 
+def mapping_knobs(separator) -> None:
+    """The perceptual mapping's knobs against what they buy: ColorChecker ΔE2000 and the worst
+    gradient (its smallest ΔL* along the ramp, its largest step over the median one)."""
+    from dataclasses import replace
+
+    from solver.apps.separation import GamutSettings, delta_e2000, srgb8_to_lab
+
+    names, ref, rgb8, _ = colorchecker_srgb8()
+    print("\n5. mapping knobs: lightness weight w (focal point), knee k, margin m → ColorChecker ΔE2000 mean/max; "
+          "over the five ramps: smallest ΔL*, largest max/median step; time of the 5 ramps + 24 patches")
+    for w, knee, margin in ((0.5, 0.8, 1.5), (0.7, 0.8, 1.5), (0.85, 0.8, 1.5), (0.7, 0.7, 1.5), (0.7, 0.9, 1.5),
+                            (0.7, 0.8, 0.5)):
+        s = replace(separator, gamut=GamutSettings(knee=knee, lightness_weight=w, margin_de=margin))
+        t0 = time.perf_counter()
+        sep, _ = s.separate_srgb(rgb8 / 255.0)
+        de = delta_e2000(sep.printed_lab, ref)
+        worst_dl, worst_step = np.inf, 0.0
+        for a, b in RAMPS.values():
+            rgb = _ramp(a, b)
+            source = srgb8_to_lab(rgb)
+            r, _ = s.separate_srgb(rgb / 255.0)
+            dl = np.diff(r.printed_lab[:, 0]) * np.sign(source[-1, 0] - source[0, 0])
+            st = delta_e2000(r.printed_lab[1:], r.printed_lab[:-1])
+            worst_dl, worst_step = min(worst_dl, dl.min()), max(worst_step, st.max() / np.median(st))
+        print(f"   w {w:4.2f} k {knee:3.1f} m {margin:3.1f}: CC {de.mean():.2f} / {de.max():.2f}; min ΔL* {worst_dl:+.3f}, "
+              f"max/median step {worst_step:4.2f}; {time.perf_counter() - t0:.1f} s")
+
+
 def main(argv=None) -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--quick", action="store_true", help="a 3-Mpixel image, fewer colours")
@@ -168,6 +198,7 @@ def main(argv=None) -> None:
           f"{time.perf_counter() - t0:.1f} s; print's black L* {separator.boundary.black_l:.1f}")
     colorchecker(separator)
     gradients(separator)
+    mapping_knobs(separator)
     table_error(separator, args.quick)
     speed(separator, args.quick)
 
