@@ -152,3 +152,21 @@ def test_ink_thickness_in_the_ink_list(tmp_path, capsys):
     xml = (tmp_path / "p.xml").read_text()
     assert '<string name="ink1" value="R30"/><float name="thickness1" value="500"/>' in xml
     assert '<string name="ink2" value="B30"/>' in xml and "thickness2" not in xml
+
+
+def test_default_inks_are_the_process_set(tmp_path, capsys):
+    """Without --inks the command prints with the process inks K, C, M, Y (each with its
+    thickness, on their paper), black generation on; the scene names all four."""
+    from PIL import Image
+
+    from solver.apps.separation.printset import process_paper_albedo, process_set
+
+    Image.fromarray(np.full((3, 4, 3), (40, 60, 90), np.uint8)).save(tmp_path / "i.png")
+    status, out, err = run([tmp_path / "i.png", "--lut", "0", "--dots", "AM:20", "-o", tmp_path / "p.xml"], capsys)
+    assert status == 0, err
+    xml = (tmp_path / "p.xml").read_text()
+    for n, label in enumerate(process_set(), start=1):
+        spec, _, nm = label.partition("@")
+        assert f'<string name="ink{n}" value="{spec}"/><float name="thickness{n}" value="{nm}"/>' in xml
+    assert f'<default name="paper" value="{process_paper_albedo():g}"/>' in xml
+    assert "black: GCR" in out and f"{process_set()[0]} 45°" in out

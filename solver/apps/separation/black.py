@@ -10,10 +10,12 @@ unknowns). The rule picks one by an *aim* for the black coverage K of each targe
     K_n(L*)   the black alone that prints lightness L* (its ramp inverted; 0 above the paper)
     g         greyness: 1 − C*/C*_max(h, L*) against the print's gamut (1 on the neutral axis,
               0 on the gamut's boundary)
-    gcr       x = K_n·g          (grey component replacement: black takes the grey part of every colour)
-    ucr       x = K_n·g⁴         (under-colour removal: black in the near-neutral shadows only)
-    K_aim     strength · x · smoothstep((x − start)/(1 − start))    (no black below the start,
-              entering without a kink)
+    curve     0 for K_n ≤ start, then linear to 1 at K_n = 1, its corner rounded (a parabola over
+              `START_WIDTH`): no black in the light tones, entering without a kink
+    gcr       K_aim = strength · g · curve(K_n)    (grey component replacement: black takes the
+              grey part of every colour)
+    ucr       K_aim = strength · g⁴ · curve(K_n)   (under-colour removal: black in the
+              near-neutral shadows only)
 
 and the separation minimises |Lab(c) − t|² + (w_K·(c_K − K_aim))² + (w_TAC·max(0, Σc − TAC))²
 twice: with w_K = `K_WEIGHT` ΔE per unit coverage (the aim chooses the black), then, from
@@ -35,6 +37,7 @@ K_WEIGHT = 3.0                   # ΔE per unit coverage of the black aim's resi
 K_POLISH_WEIGHT = 0.03           # … in the polishing pass that matches the colour
 TAC_WEIGHT = 300.0               # ΔE per unit coverage above the limit
 _UCR_POWER = 4
+START_WIDTH = 0.1                # K_n over which the black curve rounds its start
 
 
 @dataclass(frozen=True)
@@ -62,9 +65,16 @@ class BlackGeneration:
     def aim(self, k_neutral, greyness) -> np.ndarray:
         """K_aim from the neutral black K_n and the greyness g (module docstring)."""
         g = np.clip(greyness, 0.0, 1.0)
-        x = np.clip(k_neutral, 0.0, 1.0) * (g if self.mode == "gcr" else g ** _UCR_POWER)
-        t = np.clip((x - self.start) / (1.0 - self.start), 0.0, 1.0)
-        return self.strength * x * t * t * (3.0 - 2.0 * t)
+        return self.strength * (g if self.mode == "gcr" else g ** _UCR_POWER) * self.curve(k_neutral)
+
+    def curve(self, k_neutral) -> np.ndarray:
+        """The black curve of a neutral: 0 up to the start, then linear to 1 at K_n = 1, the
+        corner rounded over `START_WIDTH` (a parabola: no kink, so no visible step in a
+        gradient where the black starts)."""
+        x = np.clip(np.asarray(k_neutral, dtype=np.float64), 0.0, 1.0) - self.start
+        w = min(START_WIDTH, 1.0 - self.start)
+        r = np.where(x <= 0.0, 0.0, np.where(x < w, x * x / (2 * w), x - w / 2))
+        return r / (1.0 - self.start - w / 2)
 
 
 def find_black(model) -> int | None:

@@ -100,7 +100,7 @@ def characterisation_text(model, inks, black: int | None, created: str | None = 
         "CGATS.17",
         'ORIGINATOR\t"inkbsdf (python -m inkbsdf.print --characterisation)"',
         f'DESCRIPTOR\t"IT8.7/4-style chart predicted by the inkbsdf print model: {roles}; '
-        f'{model.coverage_model}; paper albedo as printed; not a measurement"',
+        f'{model.coverage_model}; paper albedo {float(np.mean(model.predictor.paper)):g}; not a measurement"',
         f'CREATED\t"{created}"',
         'INSTRUMENTATION\t"none: colours predicted by the print model"',
         f'MEASUREMENT_SOURCE\t"Illumination={m.illuminant}\tObserverAngle={m.observer}\tWhiteBase=Abs\tFilter=No"',

@@ -33,6 +33,7 @@ MAPPINGS = ("perceptual", "clip")
 DEFAULT_MAPPING = "perceptual"
 DEFAULT_LUT_NODES = 33
 MAPPED_DE = 0.5                     # ΔE76 a colour must move to count as gamut-mapped
+REFINE_ITERATIONS = 15             # LM steps (one start) of the boundary's check against the print
 BLACK_MARGIN_L = 0.2                # L* above the darkest neutral reached where the mapping puts black
 
 
@@ -60,7 +61,8 @@ class Separator:
         hull = GamutBoundary.build(model, rule.tac)
         objective = InkingObjective.build(model, black, rule, hull)
         grid = CoverageGrid.build(objective, solver.nodes(model.n_inks))
-        printed_of = lambda lab: separate_lab(model, lab, solver, grid, objective=objective).printed_lab  # noqa: E731
+        quick = replace(solver, starts=1, near_miss_starts=0, max_iterations=REFINE_ITERATIONS)
+        printed_of = lambda lab: separate_lab(model, lab, quick, grid, objective=objective).printed_lab  # noqa: E731
         boundary = hull.refined(printed_of)
         # the black point is the darkest neutral the separation reaches (under the TAC, with the
         # black rule's starts), a little above: neutrals below it would all print alike
