@@ -13,7 +13,8 @@
    default grids, and composing and writing a full 21 × 17 Fig. 7 (one table in every cell,
    so only drawing is timed);
 4. presets: each accuracy preset's colour error (ΔE2000) against `fine` and its build time on
-   a few cells (tables kept in out/bench/presets_cache);
+   a few cells (tables kept in out/bench/presets_cache); presets-quick: the two cells whose
+   fine tables take about a minute (not part of the default run);
 5. fig7: the whole Fig. 7 at `preview` from an empty cache, timed (~25 min);
 6. steps: the map's colour steps between columns in the committed Fig. 7 CSV (the scale of 4);
 7. compare: the committed `default` row of Fig. 7 against the same cells at `preview`;
@@ -136,9 +137,13 @@ def drawing(cache: TableCache) -> None:
 PRESET_CELLS = (("R30", "sphere:100"), ("Y7.5+B7.5", "sphere:300"), ("B30", "cylinder:200:inplane"))
 
 
-def preset_errors() -> None:
+#: `presets-quick`: the two cells whose fine tables take about a minute (no 300-nm spheres)
+QUICK_PRESET_CELLS = (PRESET_CELLS[0], PRESET_CELLS[2])
+
+
+def preset_errors(cells=PRESET_CELLS) -> None:
     """Each accuracy preset's colour against `fine` (ΔE2000 of the CSV's colour: D65, paper 0.9,
-    diffuse light, 0° view) and its build time, on PRESET_CELLS."""
+    diffuse light, 0° view) and its build time, on PRESET_CELLS (or `cells`)."""
     from solver.colour.cie import delta_e2000
     from solver.table.builder import get_or_build
 
@@ -146,7 +151,7 @@ def preset_errors() -> None:
           "2 workers; cached tables are reused and their time read from the table)")
     cache = TableCache(OUT / "presets_cache")
     print(f"   {'cell':32s} " + "  ".join(f"{a:>22s}" for a in ACCURACY) + "   fine SE (L*, a*, b*)")
-    for ink, particles in PRESET_CELLS:
+    for ink, particles in cells:
         colours, times = {}, {}
         for accuracy in reversed(ACCURACY):
             t0 = time.perf_counter()
@@ -275,8 +280,9 @@ def main(argv=None) -> int:
     sections = {"plan": plan_costs, "se": lambda: se_check(cache), "draw": lambda: drawing(cache),
                 "presets": preset_errors, "fig7": fig7_preview, "steps": map_steps,
                 "compare": preview_vs_default, "sample": fig7_sample,
-                "sample-quick": lambda: fig7_sample(quick=True)}
-    for name in (argv or [n for n in sections if not n.startswith("sample")]):
+                "sample-quick": lambda: fig7_sample(quick=True),
+                "presets-quick": lambda: preset_errors(QUICK_PRESET_CELLS)}
+    for name in (argv or [n for n in sections if not n.startswith("sample") and not n.endswith("-quick")]):
         sections[name]()
     return 0
 
