@@ -129,3 +129,16 @@ def test_a_deep_guide_never_breaks_energy():
     diff = coarse.Tbar - guide.Tbar[list(solved)]
     plain = guide.Tbar + np.stack([np.interp(wl, sw, diff[:, j]) for j in range(diff.shape[1])], axis=1)
     assert np.max(plain + refined.Rbar - 1.0) > 1e-3
+
+
+def test_flattening_has_duysens_limits():
+    """The package effect of the guide: a thin grain absorbs as the dissolved pigment (→ 1 as
+    αℓ → 0, first correction −3αℓ/8 from the sphere's chord distribution), a black one by its
+    cross-section (Q → 1, so the ratio → 3/(2αℓ)); in between it falls monotonically."""
+    from solver.table.spectral import flattening
+
+    assert flattening(0.0) == 1.0
+    assert flattening(0.01) == pytest.approx(1.0 - 3 * 0.01 / 8, rel=1e-4)
+    assert flattening(200.0) == pytest.approx(3.0 / (2 * 200.0), rel=1e-2)
+    x = np.linspace(0.01, 50.0, 200)
+    assert np.all(np.diff(flattening(x)) < 0)
