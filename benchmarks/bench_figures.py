@@ -247,9 +247,10 @@ def fig7_sample(quick: bool = False, accuracy: str = "default") -> None:
                 measured[(p.row.ink.label, p.column.particles)] = (time.perf_counter() - t0, est)
                 print(f"   {p.row.ink.label:10s} {p.column.particles:28s} {measured[(p.row.ink.label, p.column.particles)][0]:7.1f} s "
                       f"(estimate {est:6.1f} s)", flush=True)
-    ratio = {c: np.mean([m / e for (r, col), (m, e) in measured.items() if col == c and e > 0])
-             for c in {col for _, col in measured}}
+    ratio = {c: np.mean([m / e for (r, col), (m, e) in measured.items() if col == c])
+             for c in {col for (_, col), (_, e) in measured.items() if e > 0.5}}   # films: nothing to time
     known = [p for p in every if p.column.particles in ratio]
+    measured = {k: v for k, v in measured.items() if k[1] in ratio}
     total_est = sum(preflight.estimate(p.request, 2).seconds for p in every)
     extrapolated = sum(preflight.estimate(p.request, 2).seconds * ratio[p.column.particles] for p in known)
     print(f"   the figure's preflight estimate {duration(total_est)}; measured/estimate per column "

@@ -37,8 +37,10 @@ APPLICATIONS_PER_SOLVE = 14
 #: with the layered preconditioner (solver/wave/layered.py) 35–40 applications per solve pair
 #: against 2 × 12.8–18.1 for the flat twin, plus the preconditioner's set-up and one more
 #: lateral FFT per application (R15, 300-nm spheres, 500 and 740 nm, 48×48×24 and 64×64×32:
-#: unit CPU 3.0–3.2× the flat twin's, i.e. 1.5–1.6 per solve)
-ROUGH_TOP_SOLVE_FACTOR = 1.6
+#: unit CPU 3.0–3.2× the flat twin's, i.e. 1.5–1.6 per solve); a whole rough-top cell (R15,
+#: default preset, 11 wavelengths) took 1.4× more relative to its flat twin than that
+#: (`bench_figures sample-quick`, docs/figures.md): 2.2
+ROUGH_TOP_SOLVE_FACTOR = 2.2
 #: starting a local pool (spawned workers importing the solver), seconds
 POOL_START_S = 2.0
 #: tier auto: the probe solves realization 0 at this many wavelengths fully and by Born
