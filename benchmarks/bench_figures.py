@@ -16,7 +16,11 @@
    a few cells (tables kept in out/bench/presets_cache);
 5. fig7: the whole Fig. 7 at `preview` from an empty cache, timed (~25 min);
 6. steps: the map's colour steps between columns in the committed Fig. 7 CSV (the scale of 4);
-7. compare: the committed `default` row of Fig. 7 against the same cells at `preview`.
+7. compare: the committed `default` row of Fig. 7 against the same cells at `preview`;
+8. sample / sample-quick: the `default` Fig. 7's build time extrapolated from a stratified
+   sample of its cells (3 rows × 17 columns, each column's measured/estimate ratio applied to
+   the column's estimates, validated row by row; ~1/5 of the figure's time) or, quick, one row ×
+   four columns (~3 min on 2 cores).  Not part of the default run.
 """
 
 from __future__ import annotations
@@ -209,12 +213,70 @@ def preview_vs_default(preview: Path = Path("docs/data/fig7_preview.csv"),
           f"{np.median(de):.2f}, max {de.max():.2f} ({worst[0]} {worst[1]})")
 
 
+#: the stratified sample of `sample`: every 7th row (one per concentration block: R15, R30, R50)
+#: × every column; `sample-quick`: the first row × four columns that span the costs
+SAMPLE_ROWS, QUICK_COLUMNS = 7, ("molecular", "sphere:100", "sphere:300", "sphere:300:rough")
+
+
+def fig7_sample(quick: bool = False, accuracy: str = "default") -> None:
+    """The whole Fig. 7's build time from a stratified sample of its cells: each sampled cell
+    built from an empty cache (2 workers, one pool), its time beside its preflight estimate;
+    the figure = Σ over all cells of their estimates × the measured/estimate ratio of their
+    column (the cost is set by the grains, far more than by the ink).  Validation: each sampled
+    row's own total against the extrapolation from the other sampled rows (leave one row out).
+    The full sample (3 rows × 17 columns) takes about a fifth of the figure; `quick` builds the
+    first row's four representative cells only."""
+    from solver.apps.figures.cells import FigureSettings, plan_cells
+    from solver.table.builder import pooled
+
+    settings = FigureSettings(accuracy)
+    columns = [c for c in FIG7_COLUMNS if not quick or c.particles in QUICK_COLUMNS]
+    rows = FIG7_ROWS[:1] if quick else FIG7_ROWS[::SAMPLE_ROWS]
+    every = [p for p in plan_cells(FIG7_ROWS, FIG7_COLUMNS, settings) if p.request is not None]
+    plans = [p for p in plan_cells(rows, columns, settings) if p.request is not None]
+    print(f"\n8. Fig. 7 at `{accuracy}` from a stratified sample: {len(plans)} cells ({len(rows)} row(s) × "
+          f"{len(columns)} columns) of {len(every)}, empty cache, 2 workers")
+    measured = {}
+    with tempfile.TemporaryDirectory(prefix="fig7_sample_") as tmp:
+        opts = BuildOptions(workers=2, progress=False, cache=TableCache(Path(tmp)))
+        with pooled(opts) as running:
+            for p in plans:
+                est = preflight.estimate(p.request, 2).seconds
+                t0 = time.perf_counter()
+                build_table(p.request, running)
+                measured[(p.row.ink.label, p.column.particles)] = (time.perf_counter() - t0, est)
+                print(f"   {p.row.ink.label:10s} {p.column.particles:28s} {measured[(p.row.ink.label, p.column.particles)][0]:7.1f} s "
+                      f"(estimate {est:6.1f} s)", flush=True)
+    ratio = {c: np.mean([m / e for (r, col), (m, e) in measured.items() if col == c])
+             for c in {col for (_, col), (_, e) in measured.items() if e > 0.5}}   # films: nothing to time
+    known = [p for p in every if p.column.particles in ratio]
+    measured = {k: v for k, v in measured.items() if k[1] in ratio}
+    total_est = sum(preflight.estimate(p.request, 2).seconds for p in every)
+    extrapolated = sum(preflight.estimate(p.request, 2).seconds * ratio[p.column.particles] for p in known)
+    print(f"   the figure's preflight estimate {duration(total_est)}; measured/estimate per column "
+          + ", ".join(f"{c} {v:.2f}" for c, v in sorted(ratio.items())))
+    if quick:
+        print(f"   (quick: {len(known)} of {len(every)} cells have a measured column; their extrapolated build "
+              f"{duration(extrapolated)} — the full sample covers every column)")
+    else:
+        print(f"   extrapolated whole figure: {duration(extrapolated)} ({extrapolated:.0f} s) on 2 workers")
+    labels = sorted({r for r, _ in measured})
+    for held in labels if len(labels) > 1 else []:
+        others = {c: np.mean([m / e for (r, col), (m, e) in measured.items() if col == c and r != held])
+                  for c in ratio}
+        row_cells = [(k, v) for k, v in measured.items() if k[0] == held]
+        pred = sum(e * others[c] for (r, c), (m, e) in row_cells)
+        real = sum(m for _, (m, e) in row_cells)
+        print(f"   row {held}: measured {real:.0f} s, predicted from the other rows {pred:.0f} s ({pred / real - 1:+.0%})")
+
+
 def main(argv=None) -> int:
     cache = TableCache(Path(tempfile.mkdtemp(prefix="figures_")))
     sections = {"plan": plan_costs, "se": lambda: se_check(cache), "draw": lambda: drawing(cache),
                 "presets": preset_errors, "fig7": fig7_preview, "steps": map_steps,
-                "compare": preview_vs_default}
-    for name in (argv or sections):
+                "compare": preview_vs_default, "sample": fig7_sample,
+                "sample-quick": lambda: fig7_sample(quick=True)}
+    for name in (argv or [n for n in sections if not n.startswith("sample")]):
         sections[name]()
     return 0
 

@@ -14,7 +14,11 @@
    that it has hundreds of thousands of distinct colours) separated through the 3-D table:
    wall time (table build and per-pixel interpolation) beside the machine yardstick;
 4. the 3-D table against separating every colour: ΔE2000 between the two prints of 20,000
-   random sRGB colours (median, 95th percentile, max) and the table's build time, per node count.
+   random sRGB colours (median, 95th percentile, max) and the table's build time, per node count;
+5. the perceptual mapping's knobs (focal point's lightness weight, knee, margin): ColorChecker
+   ΔE2000 and the worst gradient's monotonicity and largest step;
+6. black generation (none, UCR, GCR 0.7, GCR 1, a 260 % TAC) on the photograph's colours: ink
+   totals, black and chromatic ink, the print's miss.
 
 Timings under load are not README numbers (the lead re-measures on a quiet machine).
 """
@@ -149,6 +153,58 @@ def table_error(separator, quick: bool) -> None:
               f"{np.median(de):.3f}, p95 {np.percentile(de, 95):.3f}, max {de.max():.2f}")
 
 
+def mapping_knobs(separator) -> None:
+    """The perceptual mapping's knobs against what they buy: ColorChecker ΔE2000 and the worst
+    gradient (its smallest ΔL* along the ramp, its largest step over the median one)."""
+    from dataclasses import replace
+
+    from solver.apps.separation import GamutSettings, delta_e2000, srgb8_to_lab
+
+    names, ref, rgb8, _ = colorchecker_srgb8()
+    print("\n5. mapping knobs: lightness weight w (focal point), knee k, margin m → ColorChecker ΔE2000 mean/max; "
+          "over the five ramps: smallest ΔL*, largest max/median step; time of the 5 ramps + 24 patches")
+    for w, knee, margin in ((0.5, 0.8, 1.5), (0.7, 0.8, 1.5), (0.85, 0.8, 1.5), (0.7, 0.7, 1.5), (0.7, 0.9, 1.5),
+                            (0.7, 0.8, 0.5)):
+        s = replace(separator, gamut=GamutSettings(knee=knee, lightness_weight=w, margin_de=margin))
+        t0 = time.perf_counter()
+        sep, _ = s.separate_srgb(rgb8 / 255.0)
+        de = delta_e2000(sep.printed_lab, ref)
+        worst_dl, worst_step = np.inf, 0.0
+        for a, b in RAMPS.values():
+            rgb = _ramp(a, b)
+            source = srgb8_to_lab(rgb)
+            r, _ = s.separate_srgb(rgb / 255.0)
+            dl = np.diff(r.printed_lab[:, 0]) * np.sign(source[-1, 0] - source[0, 0])
+            st = delta_e2000(r.printed_lab[1:], r.printed_lab[:-1])
+            worst_dl, worst_step = min(worst_dl, dl.min()), max(worst_step, st.max() / np.median(st))
+        print(f"   w {w:4.2f} k {knee:3.1f} m {margin:3.1f}: CC {de.mean():.2f} / {de.max():.2f}; min ΔL* {worst_dl:+.3f}, "
+              f"max/median step {worst_step:4.2f}; {time.perf_counter() - t0:.1f} s")
+
+
+def black_rules(separator) -> None:
+    """What black generation buys: on 3000 colours of the demo photograph, the mean and largest
+    total ink, the mean black and chromatic ink, and the print's ΔE2000 to the mapped colours."""
+    from solver.apps.separation import BlackGeneration, read_srgb8
+    from solver.apps.separation.image import unique_colours
+
+    if separator.objective.black is None:
+        return
+    colours, _ = unique_colours(read_srgb8(PHOTO))
+    pick = colours[np.random.default_rng(2).choice(len(colours), 3000, replace=False)] / 255.0
+    k = separator.objective.black
+    print("\n6. black generation on 3000 photograph colours: total ink mean / max (%), black mean, chromatic mean, "
+          "ΔE76 to the mapped colour p99")
+    for rule in (BlackGeneration(strength=0.0), BlackGeneration("ucr"), BlackGeneration(), BlackGeneration(strength=1.0),
+                 BlackGeneration(tac=2.6)):
+        s = separator.with_rule(rule)
+        t0 = time.perf_counter()
+        sep, _ = s.separate_srgb(pick)
+        total = 100 * sep.coverages.sum(axis=1)
+        chromatic = 100 * (sep.coverages.sum(axis=1) - sep.coverages[:, k])
+        print(f"   {rule.label():40s} {total.mean():5.1f} / {total.max():5.1f}; K {100 * sep.coverages[:, k].mean():5.1f}; "
+              f"CMY {chromatic.mean():5.1f}; p99 {np.percentile(sep.delta_e76, 99):.2f}; {time.perf_counter() - t0:.1f} s")
+
+
 def main(argv=None) -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--quick", action="store_true", help="a 3-Mpixel image, fewer colours")
@@ -156,9 +212,9 @@ def main(argv=None) -> None:
     args = p.parse_args(argv if argv is not None else sys.argv[1:] if __name__ == "__main__" else [])
     from solver.apps.separation import PrintSettings, printed_inks
     from solver.apps.separation.job import build_separator
-    from solver.apps.separation.printset import DEFAULT_INKS, parse_ink_list
+    from solver.apps.separation.printset import default_inks, parse_ink_list
 
-    inks = parse_ink_list(args.inks) if args.inks else DEFAULT_INKS
+    inks = parse_ink_list(args.inks) if args.inks else default_inks()
     settings = PrintSettings(inks=inks)
     t0 = time.perf_counter()
     separator = build_separator(settings, printed_inks(inks))
@@ -168,6 +224,8 @@ def main(argv=None) -> None:
           f"{time.perf_counter() - t0:.1f} s; print's black L* {separator.boundary.black_l:.1f}")
     colorchecker(separator)
     gradients(separator)
+    mapping_knobs(separator)
+    black_rules(separator)
     table_error(separator, args.quick)
     speed(separator, args.quick)
 

@@ -5,6 +5,7 @@
     python -m benchmarks.bench_tables --default-only     # the default table, old and new (~5 min)
     python -m benchmarks.bench_tables --control-variate  # the Born control-variate study (~1 min)
     python -m benchmarks.bench_tables --stride-curve     # film-guided wavelength stride (~3 min)
+    python -m benchmarks.bench_tables --common-grains    # rows sharing grains: paired realizations (~1 min)
 
 1. The default table (issue target: ≤ 60 s wall on this 2-core machine with max SE of Rbar and
    Tbar ≤ 0.011), old and new code side by side: Y7.5+B7.5, 300-nm spheres, seconds per stage
@@ -105,6 +106,13 @@ def default_table(workers: int, baseline: str | None = PREVIOUS_ROUND) -> dict:
               f"(target ≤ 60 s)")
     else:
         print(f"  wall: {new:.0f} s (target ≤ 60 s)")
+    from solver.table import preflight
+
+    from .bench_fresh import YARDSTICK, yardstick
+
+    est = preflight.estimate(req, workers)
+    print(f"  preflight estimate {est.seconds:.0f} s for {est.solves} solves: measured/estimate "
+          f"{new / est.seconds:.2f} (aim: within ±30 %); yardstick {yardstick(YARDSTICK):.2f} s")
     print("  stages (s): " + ", ".join(f"{k} {v:.1f}" for k, v in meta["timings_s"].items()))
     solves, apps = stats["solves"], stats["applications_mean"]
     per_solve = stats["solve_seconds_total"] / max(solves, 1)
@@ -204,6 +212,30 @@ def born_control_study(wavelengths=(420.0, 460.0, 500.0, 600.0), n: int = 8) -> 
         var = (1 - q * q) / r_full + q * q / (k * r_full)
         print(f"  ρ = {q:.2f}: best allocation N/R = {k:.1f}; at the cost of 4 plain realizations R = {r_full:.1f}, "
               f"N = {k * r_full:.1f}: standard error × {math.sqrt(var / 0.25):.2f}")
+
+
+def common_grains_study(inks=("R15", "Y15"), wavelengths=(450.0, 550.0, 650.0), n: int = 4) -> None:
+    """Common random numbers: rows of a figure at the same concentration share their grains (a
+    realization's seed does not depend on the ink), so the difference between two such cells is
+    estimated from paired realizations.  Per cell (λ, σ) the correlation of the two inks'
+    per-realization Tbar and the variance of their difference against independent grains."""
+    reqs = [table_request(ink, PARTICLES, wavelengths_nm=wavelengths, realizations=n, tier="full") for ink in inks]
+    vals = []
+    for req in reqs:
+        per = []
+        for r in range(n):
+            vox = geometry_unit(GeometryUnit(req, r))
+            per.append([solve_unit(SolveUnit(req, r, li, vox))["Tbar"].mean(-1) for li in range(len(wavelengths))])
+        vals.append(np.asarray(per))                                   # [r, λ, σ]
+    a, b = vals
+    cells = [(li, si) for li in range(a.shape[1]) for si in range(a.shape[2])]
+    rho = np.array([np.corrcoef(a[:, li, si], b[:, li, si])[0, 1] for li, si in cells])
+    paired = np.array([np.var(a[:, li, si] - b[:, li, si], ddof=1) for li, si in cells])
+    indep = np.array([np.var(a[:, li, si], ddof=1) + np.var(b[:, li, si], ddof=1) for li, si in cells])
+    print(f"common grains ({' vs '.join(inks)}, {PARTICLES}, {n} realizations, {len(wavelengths)} λ × {a.shape[2]} σ, Tbar):")
+    print(f"  correlation per cell: median {np.median(rho):.2f}, range {rho.min():.2f}–{rho.max():.2f}; variance of the "
+          f"difference, paired / independent grains: median {np.median(paired / indep):.2f}, range "
+          f"{np.min(paired / indep):.2f}–{np.max(paired / indep):.2f}")
 
 
 def stride_curve(realizations: int = 2, workers: int | None = None, strides=(2, 3, 4, 6, 8)) -> list[tuple]:
@@ -360,7 +392,12 @@ def main(argv=None) -> int:
     p.add_argument("--stride-curve", action="store_true",
                    help="only the film-guided wavelength-stride curve (module doc, 4; ~3 min)")
     p.add_argument("--realizations", type=int, default=2, help="realizations of the stride curve")
+    p.add_argument("--common-grains", action="store_true",
+                   help="only the common-random-numbers study (rows sharing grains; ~1 min)")
     args = p.parse_args(argv if argv is not None else [])
+    if args.common_grains:
+        common_grains_study()
+        return 0
     if args.stride_curve:
         stride_curve(args.realizations, args.workers)
         return 0

@@ -68,10 +68,24 @@ def channel_weights(wavelengths_nm, space: str) -> np.ndarray:
     return _weights(tuple(float(x) for x in np.asarray(wavelengths_nm, dtype=np.float64)), space)
 
 
+_REDUCED: dict[tuple, tuple] = {}      # (id(lut), space) → (lut, reduced): once per table
+_MAX_REDUCED = 64
+
+
 def reduce_lut(lut: InkLUT, space: str) -> InkLUT:
-    """The table in `space` ('rgb' or 'mono'); 'spectral' returns it unchanged."""
+    """The table in `space` ('rgb' or 'mono'); 'spectral' returns it unchanged. Cached per
+    table and space."""
     if space == "spectral":
         return lut
+    hit = _REDUCED.get((id(lut), space))
+    if hit is None or hit[0] is not lut:
+        while len(_REDUCED) >= _MAX_REDUCED:
+            _REDUCED.pop(next(iter(_REDUCED)))
+        hit = _REDUCED[id(lut), space] = (lut, _reduce(lut, space))
+    return hit[1]
+
+
+def _reduce(lut: InkLUT, space: str) -> InkLUT:
     w = channel_weights(lut.wavelengths_nm, space)
 
     def reduce(q, lo=0.0, hi=1.0):

@@ -191,14 +191,15 @@ class LoopedPrint:
     grids: `inkbsdf.premix.common_grid`). One copy of the lookups in the kernel whatever the
     number of primaries, and a lane pays for the primaries it shows: one on a halftone (each
     texel inked or not), all of them where every coverage is strictly between 0 and 1.
-    Not differentiable in reverse mode (a symbolic loop): the plugin uses it only while no
-    input of the BSDF is being differentiated."""
+    Reverse mode through a symbolic loop needs a `max_iterations` hint in Dr.Jit 1.5: the plugin
+    uses this class only while no input of the BSDF is being differentiated."""
 
-    def __init__(self, primaries, n_inks: int, coverage_model: str, luts):
-        self.subsets = tuple(tuple(s) for s, _ in primaries)
+    def __init__(self, subsets, n_inks: int, coverage_model: str, model: InkModel):
+        """`subsets`: the printed primaries S ≠ ∅ in the order of `model`'s stacked tables."""
+        self.subsets = tuple(tuple(s) for s in subsets)
         self.n_inks = int(n_inks)
         self.clapper_yule = check_coverage_model(coverage_model) == "clapper-yule"
-        self.model = InkModel.stacked(luts)
+        self.model = model
         self.has_diffuse = self.model.has_diffuse
         self._subset_bits = mi.UInt32([sum(1 << i for i in s) for s in self.subsets])
 

@@ -45,6 +45,7 @@ MIRROR_TOLERANCE = 1e-3
 
 _classes: dict[str, type] = {}      # variant → BSDF class (a class derives from one variant's BSDF)
 _models: dict[tuple, tuple] = {}    # (variant, id(lut)) → (lut, InkModel): one copy per table
+_premixed: dict[tuple, tuple] = {}  # premixed and stacked tables: key → (tables, InkModel)
 _MAX_MODELS = 64
 
 
@@ -127,6 +128,39 @@ def model_for(lut):
     return hit[1]
 
 
+def premixed_model(coverages, primaries):
+    """The InkModel of a uniform print's premixed table (`inkbsdf.premix`), or None; shared by
+    every BSDF of this variant with the same tables and coverages (a scene of many shapes with
+    one ink holds one copy)."""
+    luts = tuple(lut for _, lut in primaries)
+    key = (mi.variant(), tuple(float(c) for c in coverages), tuple(tuple(s) for s, _ in primaries),
+           tuple(id(lut) for lut in luts))
+    hit = _premixed.get(key)
+    if hit is None or any(a is not b for a, b in zip(hit[0], luts)):
+        lut = premixed_lut(coverages, primaries)
+        if lut is None:
+            return None
+        while len(_premixed) >= _MAX_MODELS:
+            _premixed.pop(next(iter(_premixed)))
+        hit = _premixed[key] = (luts, InkModel(lut))
+    return hit[1]
+
+
+def stacked_model(luts):
+    """The InkModel of `luts` stacked on their common grid (`LoopedPrint`), or None when they
+    have none; shared by every BSDF of this variant with the same tables."""
+    key = (mi.variant(), "stacked", tuple(id(lut) for lut in luts))
+    hit = _premixed.get(key)
+    if hit is None or any(a is not b for a, b in zip(hit[0], luts)):
+        common = common_grid(list(luts))
+        if common is None:
+            return None
+        while len(_premixed) >= _MAX_MODELS:
+            _premixed.pop(next(iter(_premixed)))
+        hit = _premixed[key] = (tuple(luts), InkModel.stacked(common))
+    return hit[1]
+
+
 def coverage_names(props) -> list[str]:
     """`coverage` for the single-ink form, `coverage1` … `coveragek` for k numbered inks."""
     numbers = numbered_inks(props)
@@ -184,9 +218,17 @@ def _define_class():
                 self._luts, self.model, self.looped, self.primaries = luts, None, None, primaries
             self.premixed = None
             if self.coverage_model == "clapper-yule" and all(isinstance(c, float) for c in supports):
-                lut = premixed_lut(supports, self._luts)
-                if lut is not None:
-                    self.premixed = PrintModel([((0,), model_for(lut))], 1, self.coverage_model)
+                model = premixed_model(supports, self._reduced())
+                if model is not None:
+                    self.premixed = PrintModel([((0,), model)], 1, self.coverage_model)
+            if self.premixed is None:
+                self._lane_model()      # its tables now, not while a kernel is being recorded
+
+        def _reduced(self):
+            """((subset, InkLUT), ...) of the primaries in this variant's colour space (each
+            table reduced alone, as the unrolled model does, before any mixing or regridding)."""
+            space = colour_space()
+            return [(subset, reduce_lut(lut, space)) for subset, lut in self._luts]
 
         def _lane_model(self):
             """The lane model for this evaluation: the premixed table (coverages are numbers,
@@ -198,10 +240,9 @@ def _define_class():
             if self.premixed is not None and not tracked:
                 return self.premixed, [1.0]
             if self.looped is None and len(self._luts) > 1 and dr.is_jit_v(mi.Float):
-                luts = common_grid([lut for _, lut in self._luts])
-                self.looped = False if luts is None else LoopedPrint(
-                    self._luts, len(self.inks), self.coverage_model,
-                    [reduce_lut(lut, colour_space()) for lut in luts])
+                model = stacked_model([lut for _, lut in self._reduced()])
+                self.looped = False if model is None else LoopedPrint(
+                    [s for s, _ in self._luts], len(self.inks), self.coverage_model, model)
             if self.looped and not tracked:
                 return self.looped, None
             if self.model is None:

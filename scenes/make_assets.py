@@ -31,8 +31,10 @@ import numpy as np
 
 HERE = Path(__file__).resolve().parent
 from inkbsdf.apps.pagescene import (A4_CM, CAMERA_EYE_CM, SOFTBOX_HEIGHT_CM, PATCH_LIFT_CM,  # noqa: F401
-                               Stage, bitmap_xml, ink_bsdf_xml, print_shape_xml, rect_transform,
+                               Stage, bitmap_xml, ink_bsdf_xml, ink_source_xml, print_shape_xml, rect_transform,
                                scene_document, stage_xml, write_sky)
+from solver.apps.separation.printset import process_set
+from solver.paper import PAPER_ALBEDO
 
 PAGE_W_CM, PAGE_H_CM = A4_CM
 STAGE = Stage.for_sheet(PAGE_W_CM, PAGE_H_CM)
@@ -98,13 +100,13 @@ PRINTED_PAGE = Page(
     "Its colour comes from light that crosses the layer, scatters in the paper and crosses "
     "it again; its sheen is the layer's coherent mirror reflection, tinted by thin-film "
     "interference. G30 is a molecular mix of blue and yellow pigment. The photograph is "
-    "printed with three inks in halftone dots; where dots overlap, the inks lie in layers.",
+    "printed with the four process inks in halftone dots; where dots overlap, they lie in layers.",
     (Patch("R30", "R30", 5.0, ROW1), Patch("Y30", "Y30", 10.5, ROW1),
      Patch("clear", "clear varnish", 16.0, ROW1), Patch("B30", "B30", 5.0, ROW2),
      Patch("G30", "G30 (molecular)", 10.5, ROW2), Patch("Y25+B5", "Y25+B5 mix", 16.0, ROW2)),
     in_scene_inks=False, sheen_uv_cm=(13.07, 9.28),
     text=TextBox(1.9, 20.7, 44, 0.42, 0.68),
-    photo=Photo(("R30", "Y30", "B30"), "AM:20", 15.45, 23.2, 8.1, "R30 + Y30 + B30, AM 20 lpi"))
+    photo=Photo(process_set(), "AM:20", 15.45, 23.2, 8.1, "process inks K, C, M, Y, AM 20 lpi"))
 PARTICLE_PAGE = Page(
     "particle_inks", "Same pigment, different grains",
     "7.5 % yellow + 7.5 % blue by volume in a 1 µm layer: wave-optics tables",
@@ -208,7 +210,8 @@ def make_photo_textures(page: Page, render: bool) -> None:
     if render or not source.is_file():
         write_rgb_png(source, render_still_life(*PHOTO_SIZE_PX))
     rgb8 = read_srgb8(source)
-    settings = PrintSettings(inks=photo.inks, dots=parse_dots(photo.dots), size_cm=photo_size_cm(photo))
+    settings = PrintSettings(inks=photo.inks, dots=parse_dots(photo.dots), size_cm=photo_size_cm(photo),
+                             paper=PAPER_ALBEDO)            # the page's paper ($paper's default)
     result = print_image(rgb8, settings, printed_inks(photo.inks))
     for line in result.separation.report.lines():
         print(f"{page.name} photograph: {line}")
@@ -238,10 +241,11 @@ def _photo_xml(page: Page) -> str:
     from solver.apps.separation import PrintSettings, parse_dots
 
     photo = page.photo
-    settings = PrintSettings(inks=photo.inks, dots=parse_dots(photo.dots))
+    settings = PrintSettings(inks=photo.inks, dots=parse_dots(photo.dots), paper=PAPER_ALBEDO)
+    # the photograph's inks are named in the scene (their tables and overprints through the cache)
     return "\n" + print_shape_xml(
         STAGE, (photo.u_cm, photo.v_cm), photo_size_cm(photo),
-        [_ink_source(page, ink, None) for ink in photo.inks], photo_texture_files(page),
+        [ink_source_xml(ink) for ink in photo.inks], photo_texture_files(page),
         settings.dots.binary, None if settings.dots.binary else settings.model,
         comment=f"the photograph: {', '.join(photo.inks)} (printing order), {settings.dots.label()}, "
                 f"separated with {settings.model}")

@@ -118,3 +118,45 @@ def test_a_long_geometry_unit_is_announced_with_its_estimate(tmp_path, caplog, m
     with caplog.at_level(logging.INFO, logger="inkbsdf.tables"):
         preflight.check(request, 1, tmp_path)
     assert "per realization" not in caplog.text
+
+
+def test_estimate_counts_the_solves_of_the_solved_wavelengths_at_the_measured_cost(monkeypatch):
+    """Solves: realizations × solved wavelengths (every stride-th and the last) × solved σ ×
+    azimuths (× 2 sides for a rough top); each at the measured CPU cost per application
+    (preflight's coefficients, docs/tables.md), a rough top's at ROUGH_TOP_SOLVE_FACTOR."""
+    import math
+
+    monkeypatch.setattr(preflight, "POOL_START_S", 0.0)
+    kw = dict(wavelengths_nm=tuple(float(w) for w in range(400, 701, 20)), grid=(32, 32, 16), realizations=3,
+              tier="full")
+    every = preflight.estimate(table_request("R15", "sphere:300", wavelength_stride=1, **kw))
+    third = preflight.estimate(table_request("R15", "sphere:300", wavelength_stride=3, **kw))
+    rough = preflight.estimate(table_request("R15", "sphere:300:rough", wavelength_stride=3, **kw))
+    assert every.solves == 3 * 16 * 7 * 2 and third.solves == 3 * 6 * 7 * 2   # 400, 460, … 700 (6 of 16)
+    assert rough.solves == 2 * third.solves
+    voxels = 32 * 32 * 16
+    per_solve = preflight.APPLICATIONS_PER_SOLVE * preflight.SECONDS_PER_VOXEL_LOG * voxels * math.log2(voxels)
+    geometry = third.geometry_seconds * 3
+    assert third.seconds == pytest.approx(geometry + third.solves * per_solve, rel=1e-9)
+    assert rough.seconds - rough.geometry_seconds * 3 == pytest.approx(
+        rough.solves * per_solve * preflight.ROUGH_TOP_SOLVE_FACTOR, rel=1e-9)
+    monkeypatch.setattr(preflight, "SECONDS_PER_VOXEL_LOG", 2 * preflight.SECONDS_PER_VOXEL_LOG)
+    doubled = preflight.estimate(table_request("R15", "sphere:300", wavelength_stride=3, **kw))
+    assert doubled.seconds - geometry == pytest.approx(2 * (third.seconds - geometry), rel=1e-9)
+
+
+def test_auto_tier_estimate_weighs_the_tiers_the_probe_picks():
+    """Tier auto: small grains mostly end in Born or the effective medium (the probe, then a
+    Born solve per sample: far cheaper than full), large grains and rough tops in the full solve
+    (its cost plus the probe's Born solves)."""
+    kw = dict(grid=(32, 32, 16), realizations=3)
+    small = preflight.estimate(table_request("R15", "sphere:30", **kw))
+    small_full = preflight.estimate(table_request("R15", "sphere:30", tier="full", **kw))
+    large = preflight.estimate(table_request("R15", "sphere:450", **kw))
+    large_full = preflight.estimate(table_request("R15", "sphere:450", tier="full", **kw))
+    assert preflight.full_tier_share(table_request("R15", "sphere:30")) == 0.0
+    assert preflight.full_tier_share(table_request("R15", "sphere:200")) == pytest.approx(0.5)
+    assert preflight.full_tier_share(table_request("R15", "sphere:100:rough")) == 1.0
+    solving = lambda est: est.seconds - 3 * est.geometry_seconds       # one worker: no pool to start
+    assert solving(small) < 0.5 * solving(small_full)
+    assert solving(large_full) < solving(large) < 1.1 * solving(large_full)

@@ -281,3 +281,61 @@ def test_coverage_bitmap_must_be_raw_and_finite(use_variant, tables, tmp_path):
         mi.load_dict({"type": "ink", "filename1": str(tables["R30"]), "filename2": str(tables["B30"]),
                       "coverage1": 0.3, "coverage2": nan_exr})
     mi.load_dict({**base, "coverage": _bitmap(mi, tmp_path, "filled", np.nan_to_num(holes), "bilinear")})
+
+
+@pytest.mark.parametrize("variant", ["llvm_ad_spectral", "llvm_ad_rgb"])
+def test_looped_print_equals_unrolled_on_halftones(use_variant, tables, variant):
+    """Three inks as 0/1 halftone bitmaps (nearest texels, every primary somewhere, one per
+    lane): the per-lane loop over non-zero primaries (`LoopedPrint`) equals the unrolled sums
+    (`PrintModel`, validated above against the NumPy model; used while the paper albedo is
+    being differentiated), eval and sample, lane by lane."""
+    mi = use_variant(variant)
+    import drjit as dr
+
+    from inkbsdf.inks import stack_provider
+    from inkbsdf.mixing import LoopedPrint, PrintModel
+
+    rng = np.random.default_rng(5)
+    maps = [{"type": "bitmap", "data": mi.TensorXf((rng.random((8, 8, 1)) < 0.5).astype(np.float32)),
+             "raw": True, "filter_type": "nearest"} for _ in range(3)]
+    with stack_provider(StackProvider()):
+        bsdf = load(mi, (tables["R30"], tables["diffuse"], tables["B30"]), maps, CY)
+    n = 2048
+    wi, wo = directions(rng, n), directions(rng, n)
+    si = dr.zeros(mi.SurfaceInteraction3f, n)
+    si.wi = mi.Vector3f(*[mi.Float(c) for c in wi])
+    si.sh_frame = mi.Frame3f(mi.Vector3f(0, 0, 1))
+    si.uv = mi.Point2f(mi.Float(rng.random(n)), mi.Float(rng.random(n)))
+    if mi.is_spectral:
+        si.wavelengths = mi.Spectrum(*[mi.Float(rng.uniform(380, 780, n)) for _ in range(4)])
+    u = [mi.Float(rng.random(n)) for _ in range(3)]
+    ctx = mi.BSDFContext()
+
+    def run():
+        f = bsdf.eval(ctx, si, mi.Vector3f(*[mi.Float(c) for c in wo]))
+        bs, w = bsdf.sample(ctx, si, u[0], mi.Point2f(u[1], u[2]))
+        channels = dr.size_v(mi.Spectrum)
+        return np.array([np.asarray(f[k]) for k in range(channels)] + [np.asarray(w[k]) for k in range(channels)])
+
+    assert isinstance(bsdf._lane_model()[0], LoopedPrint)
+    looped = run()
+    params = mi.traverse(bsdf)
+    paper = mi.Float(0.9)
+    dr.enable_grad(paper)
+    params["paper.value"] = paper
+    params.update()
+    assert isinstance(bsdf._lane_model()[0], PrintModel)
+    unrolled = run()
+    assert np.all(np.isfinite(looped)) and np.any(looped > 0)
+    np.testing.assert_allclose(looped, unrolled, rtol=2e-5, atol=1e-7)
+
+
+def test_premixed_tables_shared_between_bsdfs(use_variant, tables):
+    """Two BSDFs with the same table and coverage hold one premixed table; another coverage
+    makes another."""
+    mi = use_variant("llvm_ad_spectral")
+
+    a, b, c = (mi.load_dict({"type": "ink", "filename": str(tables["R30"]), "coverage": cov})
+               for cov in (0.3, 0.3, 0.7))
+    model = lambda bsdf: bsdf.premixed.primaries[0][1]      # noqa: E731
+    assert model(a) is model(b) and model(a) is not model(c)

@@ -124,3 +124,49 @@ def test_bad_press_options_one_line(tmp_path, capsys, extra, word):
     lines = err.strip().splitlines()
     assert status == 2 and len(lines) == 1 and word in lines[0], err
     assert not (tmp_path / "p.xml").exists()
+
+
+def test_ink_thickness_in_the_ink_list(tmp_path, capsys):
+    """'R30@500': the tables (ink and overprints) are films of 500 nm, the scene names the
+    thickness for the BSDF; a bad thickness is one line."""
+    from solver.apps.separation import parse_ink_list, printed_inks
+    from solver.apps.separation.printset import InkListError, ink_requests
+    from solver.colour.measurement import DEFAULT
+
+    inks = parse_ink_list("R30@500nm,B30")
+    assert inks == ("R30@500", "B30")
+    req = ink_requests(inks)
+    assert req[(0,)].layers[0].thickness_nm == 500.0 and req[(1,)].layers[0].thickness_nm == 1000.0
+    assert [layer.thickness_nm for layer in req[(0, 1)].layers] == [1000.0, 500.0]      # B30 over R30
+    thin, thick = printed_inks(inks).inks[0], printed_inks(("R30",)).inks[0]
+    assert DEFAULT.lab(thin, 0.9)[0] > DEFAULT.lab(thick, 0.9)[0] + 3       # half the ink: lighter
+    for bad in ("R30@", "R30@5", "R30@x"):
+        with pytest.raises(InkListError, match="thickness in nm"):
+            parse_ink_list(bad)
+    from PIL import Image
+
+    Image.fromarray(np.full((4, 6, 3), 120, np.uint8)).save(tmp_path / "i.png")
+    status, out, err = run([tmp_path / "i.png", "--inks", "R30@500,B30", "--lut", "0", "-o", tmp_path / "p.xml"],
+                           capsys)
+    assert status == 0, err
+    xml = (tmp_path / "p.xml").read_text()
+    assert '<string name="ink1" value="R30"/><float name="thickness1" value="500"/>' in xml
+    assert '<string name="ink2" value="B30"/>' in xml and "thickness2" not in xml
+
+
+def test_default_inks_are_the_process_set(tmp_path, capsys):
+    """Without --inks the command prints with the process inks K, C, M, Y (each with its
+    thickness, on their paper), black generation on; the scene names all four."""
+    from PIL import Image
+
+    from solver.apps.separation.printset import process_paper_albedo, process_set
+
+    Image.fromarray(np.full((3, 4, 3), (40, 60, 90), np.uint8)).save(tmp_path / "i.png")
+    status, out, err = run([tmp_path / "i.png", "--lut", "0", "--dots", "AM:20", "-o", tmp_path / "p.xml"], capsys)
+    assert status == 0, err
+    xml = (tmp_path / "p.xml").read_text()
+    for n, label in enumerate(process_set(), start=1):
+        spec, _, nm = label.partition("@")
+        assert f'<string name="ink{n}" value="{spec}"/><float name="thickness{n}" value="{nm}"/>' in xml
+    assert f'<default name="paper" value="{process_paper_albedo():g}"/>' in xml
+    assert "black: GCR" in out and f"{process_set()[0]} 45°" in out

@@ -31,6 +31,17 @@ def ryb_boundary(ryb):
 
 
 @pytest.fixture(scope="module")
+def process_separator():
+    """The package's process inks (K, C, M, Y) on their paper, the print command's defaults."""
+    from solver.apps.separation import PrintSettings
+    from solver.apps.separation.job import build_separator
+    from solver.apps.separation.printset import parse_ink_list
+
+    settings = PrintSettings(inks=parse_ink_list("process"))
+    return build_separator(settings, printed_inks(settings.inks))
+
+
+@pytest.fixture(scope="module")
 def ryb_separator(ryb):
     return Separator.build(ryb)
 
@@ -84,12 +95,12 @@ def _step_spike(printed_lab, source_lab) -> float:
 
 
 @pytest.mark.parametrize("name", list(RAMPS))
-@pytest.mark.parametrize("inks", ["ryb", "rybk"])
-def test_ramps_stay_monotone_and_smooth(name, inks, ryb_separator, rybk_separator):
+@pytest.mark.parametrize("inks", ["ryb", "rybk", "process"])
+def test_ramps_stay_monotone_and_smooth(name, inks, ryb_separator, rybk_separator, process_separator):
     """A smooth ramp (monotone in L*) is monotone in L* after gamut mapping and separation, the
     print matches the mapped colours, and no step spikes against its neighbours (a notch from
     nearest-colour clipping does: the clip test below)."""
-    sep_ = ryb_separator if inks == "ryb" else rybk_separator
+    sep_ = {"ryb": ryb_separator, "rybk": rybk_separator, "process": process_separator}[inks]
     source = srgb8_to_lab(_ramp(*RAMPS[name]))
     assert np.all(np.diff(source[:, 0]) > 0) or np.all(np.diff(source[:, 0]) < 0)
     sep, _ = sep_.separate_srgb(_ramp(*RAMPS[name]) / 255.0)
@@ -98,6 +109,22 @@ def test_ramps_stay_monotone_and_smooth(name, inks, ryb_separator, rybk_separato
     assert np.min(sign * np.diff(L)) > -L_TOLERANCE, (name, np.diff(L).min())
     assert sep.delta_e76.max() < 3.0, name                      # concave corners of the gamut: closest colour
     assert _step_spike(sep.printed_lab, source) < 3.0, name
+
+
+def test_colorchecker_printed_with_the_process_inks(process_separator):
+    """The 24 ColorChecker patches (colour-science's ColorChecker 2005 reference, D50) printed
+    from their 8-bit sRGB values with the process inks: ΔE2000 mean ≤ 3, max ≤ 8 (issue 21)."""
+    import colour
+
+    cc = colour.CCS_COLOURCHECKERS["ColorChecker 2005"]
+    xyz = colour.xyY_to_XYZ(np.array(list(cc.data.values())))
+    reference = colour.XYZ_to_Lab(xyz, cc.illuminant)
+    rgb = colour.XYZ_to_sRGB(xyz, illuminant=cc.illuminant, chromatic_adaptation_transform="Bradford")
+    sep, _ = process_separator.separate_srgb(np.round(np.clip(rgb, 0, 1) * 255) / 255)
+    de = delta_e2000(sep.printed_lab, reference)
+    assert de.mean() <= 3.0 and de.max() <= 8.0, (de.mean(), de.max())
+    k = sep.coverages[:, process_separator.objective.black]
+    assert k[18] < k[21] < k[23]                  # the grey row: white, neutral 5, black: more black
 
 
 def test_clipping_makes_the_notch_that_mapping_avoids(ryb, ryb_separator):

@@ -104,3 +104,30 @@ def test_a_strided_build_solves_only_its_wavelengths_and_equals_the_full_build_t
     for name in ("Rbar", "Tbar"):
         gap = np.abs(getattr(strided, name)[1] - getattr(full, name)[1])
         assert np.all(gap <= 0.02 + 3 * full.errors[name][1]), (name, gap)
+
+
+def test_wavelengths_whose_guided_difference_breaks_energy_are_named_for_solving():
+    """A guide whose band is far deeper than the ink's (R50 guiding R5, every 4th of 41
+    wavelengths solved) puts R̄ + T̄ above 1 between the solved wavelengths; those — and only
+    unsolved ones — are named, and once they are solved too (the builder's loop) the refined
+    table holds every identity again."""
+    from solver.table.schema import energy_excess
+    from solver.table.spectral import unsolved_breaking_energy
+
+    truth_req = table_request("R5", "molecular")
+    wl = np.arange(380.0, 781.0, 10.0)
+    truth, guide = _film(truth_req, wl), _film(table_request("R50", "molecular"), wl)
+    solved = list(solved_indices(wl.size, 4))
+    broken = []
+    for _ in range(wl.size):
+        refined = refine(_film(truth_req, wl[solved]), guide, tuple(solved))
+        broken = unsolved_breaking_energy(refined, solved)
+        if not broken:
+            break
+        above, below = energy_excess(refined)
+        assert all(above[i] > 0 or below[i] > 0 for i in broken)
+        assert not set(broken) & set(solved)
+        solved = sorted(set(solved) | set(broken))
+    assert len(solved) > len(solved_indices(wl.size, 4)), "the deep guide must break energy somewhere"
+    assert not broken
+    validate(refined)

@@ -219,7 +219,8 @@ def test_killed_build_resumes_from_finished_units(tmp_path):
     cache = tmp_path / "cache"
     args = [sys.executable, "-m", "solver.apps.cli", "-v", "build", "--ink", "Y7.5+B7.5", "--particles", "sphere:300",
             "--wavelengths", "400:700:20", "--angles", "4", "--grid", "24", "24", "12", "--realizations", "1",
-            "--azimuths", "2", "--tier", "full", "--cache", str(cache), "--no-progress", "-o", str(tmp_path / "t.npz")]
+            "--azimuths", "2", "--tier", "full", "--wavelength-stride", "1", "--cache", str(cache), "--no-progress",
+            "-o", str(tmp_path / "t.npz")]
     # a session of its own: every process the build starts (pool workers, the resource tracker)
     # carries its process-group id, so we can see whether any outlives the kill
     proc = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
@@ -244,7 +245,8 @@ def test_killed_build_resumes_from_finished_units(tmp_path):
     fresh = build_table(table_request("Y7.5+B7.5", "sphere:300",
                                       wavelengths_nm=tuple(np.arange(400.0, 701.0, 20.0)),
                                       sigma_rad=tuple(np.linspace(0, np.pi / 2, 4)), grid=(24, 24, 12),
-                                      realizations=1, azimuths=2, tier="full"), opts(tmp_path / "fresh"))
+                                      realizations=1, azimuths=2, tier="full", wavelength_stride=1),
+                       opts(tmp_path / "fresh"))
     for name in COLUMNS:
         np.testing.assert_array_equal(getattr(resumed, name), getattr(fresh, name))
     assert not list(cache.glob("parts/*/*.npz"))      # a finished build clears its parts

@@ -26,8 +26,8 @@ def test_tm_slab_as_contrast_to_a_different_background(eta, eps_b, sigma_deg):
     """The slab carried by the contrast, the faces given the slab's own ε_f."""
     cell = Cell(np.full((2, 2, 64), eta ** 2), (300.0, 300.0), (0.0, 1000.0))
     res = slab_against_airy(cell, Incidence(LAM, math.radians(sigma_deg)), 1.0, eta, 1.0, 1000.0, "tm",
-                            eps_background=eps_b, eps_face=eta ** 2)
-    assert res.applications > 3
+                            eps_background=eps_b, eps_face=eta ** 2, preconditioner="none")
+    assert res.applications > 3     # the Krylov solve, not the layered preconditioner's exact 1-D stack
 
 
 def test_brewster_angle_of_a_clear_binder_film():

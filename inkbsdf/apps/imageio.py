@@ -35,10 +35,13 @@ def non_finite_pixels(image) -> int:
 
 
 def to_rgb_array(image) -> np.ndarray:
-    """A render (Mitsuba TensorXf or array [H, W, ≥3]) as float32 [H, W, 3] linear RGB."""
+    """A render (Mitsuba TensorXf or array [H, W, ≥3], or [H, W, 1] luminance from a mono
+    variant, written as grey) as float32 [H, W, 3] linear RGB."""
     arr = np.asarray(image, dtype=np.float32)
+    if arr.ndim == 3 and arr.shape[2] == 1:
+        arr = np.repeat(arr, 3, axis=2)
     if arr.ndim != 3 or arr.shape[2] < 3:
-        raise ValueError(f"expected an RGB image [H, W, 3], got shape {arr.shape}")
+        raise ValueError(f"expected an RGB image [H, W, 3] or a luminance one [H, W, 1], got shape {arr.shape}")
     return np.ascontiguousarray(arr[:, :, :3])
 
 

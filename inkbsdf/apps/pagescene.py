@@ -106,6 +106,17 @@ def bitmap_xml(name: str, filename: str, nearest: bool = False) -> str:
             '<transform name="to_uv"><scale y="-1"/><translate y="1"/></transform></texture>')
 
 
+def ink_source_xml(label: str) -> str:
+    """The `ink` BSDF parameters naming one ink of a print by its label (`solver.apps.separation
+    .printset`: a spec, with its layer thickness after '@' when it has one); the table comes
+    through the cache."""
+    from solver.apps.separation.printset import split_ink
+
+    spec, thickness_nm = split_ink(label)
+    xml = f'<string name="ink" value="{spec}"/>'
+    return xml if thickness_nm is None else xml + f'<float name="thickness" value="{thickness_nm:g}"/>'
+
+
 def ink_bsdf_xml(sources, coverages, paper: str = "$paper", coverage_model: str | None = None,
                  indent: str = "        ") -> str:
     """An `ink` BSDF with inks 1..k: `sources[i]` is the XML naming ink i+1's table with
@@ -117,7 +128,7 @@ def ink_bsdf_xml(sources, coverages, paper: str = "$paper", coverage_model: str 
     lines = [f'{indent}<bsdf type="ink">']
     for n, (source, coverage) in enumerate(zip(sources, coverages), start=1):
         number = str(n) if len(sources) > 1 else ""
-        lines.append(indent + "    " + re.sub(r'name="(ink|filename)"', rf'name="\g<1>{number}"', source))
+        lines.append(indent + "    " + re.sub(r'name="(ink|filename|thickness)"', rf'name="\g<1>{number}"', source))
         if coverage is not None:
             lines.append(indent + "    " + coverage.replace('name="coverage"', f'name="coverage{number}"', 1))
     lines.append(f'{indent}    <float name="paper" value="{paper}"/>')

@@ -1,8 +1,8 @@
 """Print an image with the project's inks: colour separation, halftoning, and a scene of the
 printed page.
 
-    python -m inkbsdf.print IMAGE [--inks R30,Y30,B30] [--coverage-model auto|clapper-yule|murray-davies]
-        [--dots AM:150|FM|none] [--dpi N] [--paper 0.9] [--size WxH] [--intent relative|absolute]
+    python -m inkbsdf.print IMAGE [--inks process|R30,Y30,B30|C8.7@533,…] [--coverage-model auto|clapper-yule|murray-davies]
+        [--dots AM:150|FM|none] [--dpi N] [--paper ALBEDO] [--size WxH] [--intent relative|absolute]
         [--black gcr|ucr] [--black-strength 0.7] [--black-start 0.2] [--tac 300] [--black-ink SPEC|none]
         [--gamut perceptual|clip] [--lut 33] [--characterisation OUT.txt] -o page.xml
     python -m inkbsdf.print --characterisation OUT.txt [--inks …]     (the chart only)
@@ -60,13 +60,14 @@ def build_parser() -> argparse.ArgumentParser:
     p = _Parser(prog="python -m inkbsdf.print", description=__doc__.split("\n\n")[0],
                 formatter_class=DefaultsFormatter)
     from solver.apps.separation import BLACK_MODES, MAPPINGS, BlackGeneration, GamutSettings
-    from solver.apps.separation.printset import DEFAULT_INKS
+    from solver.apps.separation.printset import DEFAULT_INK_LIST
     from solver.apps.separation.separate import DEFAULT_LUT_NODES
 
     black = BlackGeneration()
     p.add_argument("image", nargs="?", help="image file (PNG, JPEG, TIFF, …; sRGB unless it embeds an ICC profile)")
-    p.add_argument("--inks", default=",".join(DEFAULT_INKS),
-                   help="1 to 4 molecular ink specs in printing order, e.g. R30,Y30,B30")
+    p.add_argument("--inks", default=DEFAULT_INK_LIST,
+                   help="1 to 4 molecular ink specs in printing order, e.g. R30,Y30,B30, each optionally "
+                        "with its layer thickness in nm (C8.7@1500); process: the process inks K, C, M, Y")
     p.add_argument("--black", default=black.mode, choices=BLACK_MODES,
                    help="black generation: gcr (black takes the grey part of every colour) or ucr (black in "
                         "near-neutral shadows only)")
@@ -95,7 +96,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help=f"texture resolution, texels per inch (default: one per image pixel for --dots none, "
                         f"{ht.AM_TEXELS_PER_CELL} per screen period for AM, {ht.FM_DPI:g} for FM; at least "
                         f"{ht.AM_MIN_TEXELS_PER_CELL} per screen period for AM, {ht.FM_MIN_DPI:g} for FM)")
-    p.add_argument("--paper", type=float, default=PAPER_ALBEDO, help="paper albedo in [0, 1]")
+    p.add_argument("--paper", type=float, default=None,
+                   help=f"paper albedo in [0, 1] (default: the process inks' paper for --inks process, else {PAPER_ALBEDO:g})")
     p.add_argument("--size", default="12", help="print size in cm: WIDTHxHEIGHT, or WIDTH (height from the image)")
     p.add_argument("--intent", default="relative", choices=INTENTS,
                    help="relative: the image's white prints as the paper; absolute: CIELAB against a perfect white")
@@ -115,7 +117,8 @@ def settings_from(args):
     except (InkListError, DotsError) as exc:
         raise UsageError(f"--{exc}") from None          # messages start with the option's name
     try:
-        check_paper_albedo(args.paper, what="--paper: the paper albedo")
+        if args.paper is not None:
+            check_paper_albedo(args.paper, what="--paper: the paper albedo")
     except ValueError as exc:
         raise UsageError(str(exc)) from None
     if args.dpi is not None and not 1.0 <= args.dpi <= 20000.0:
@@ -148,13 +151,14 @@ def black_rule(args):
 def black_ink(args, inks):
     if args.black_ink is None or args.black_ink == "none":
         return args.black_ink
+    from solver.apps.separation.printset import split_ink
     from solver.inks import parse_ink
 
     try:
-        label = parse_ink(args.black_ink).label
+        label = parse_ink(split_ink(args.black_ink)[0]).label
     except ValueError as exc:
         raise UsageError(f"--black-ink: {exc}") from None
-    if label not in inks:
+    if label not in [split_ink(x)[0] for x in inks]:
         raise UsageError(f"--black-ink: {args.black_ink} is not one of --inks ({', '.join(inks)}); name one "
                          "of them or none")
     return label
@@ -176,13 +180,13 @@ def lut_nodes(args) -> int:
 
 def scene_xml(result, texture_folder: str, texture_files) -> str:
     """The printed page: a sheet of paper (the print plus a margin) with the print on it."""
-    from inkbsdf.apps.pagescene import Stage, print_shape_xml, scene_document, stage_xml
+    from inkbsdf.apps.pagescene import Stage, ink_source_xml, print_shape_xml, scene_document, stage_xml
 
     s = result.settings
     w, h = result.grid.size_cm
     sheet = (w + 2 * MARGIN_CM, h + 2 * MARGIN_CM)
     stage = Stage.for_sheet(*sheet)
-    sources = [f'<string name="ink" value="{ink}"/>' for ink in s.inks]
+    sources = [ink_source_xml(ink) for ink in s.inks]
     files = [f"{texture_folder}/{Path(f).name}" for f in texture_files]
     what = (f"{', '.join(s.inks)} (printing order), {s.dots.label()}, {result.grid.shape[1]}×"
             f"{result.grid.shape[0]} texels, separated with {s.model}")

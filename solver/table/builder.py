@@ -171,23 +171,33 @@ def _build_wave(request: TableRequest, opts: BuildOptions) -> InkTable:
     if voxels is None:
         voxels = _geometry(request, opts, timer)
     method = "born" if tier == "born" else "full"
-    solved, nr = request.solved_wavelength_indices, request.wave.realizations
-    nl = len(solved)
-    # the solved wavelengths' own request (grids only: units index the full request's wavelengths)
-    coarse_request = request.with_grids(wavelengths_nm=tuple(request.grids.wavelengths_nm[i] for i in solved))
+    solved, nr = list(request.solved_wavelength_indices), request.wave.realizations
+    count = len(request.grids.wavelengths_nm)
+    units: dict[tuple[int, int], object] = {}            # (realization, wavelength index) → unit
     while True:
         voxels = voxels + _geometry(request, opts, timer, range(len(voxels), nr))
-        flat = _solves(request, opts, timer, method, voxels, [(r, li) for r in range(nr) for li in solved])
-        units = [[flat[r * nl + k] for k in range(nl)] for r in range(nr)]
+        todo = [(r, li) for r in range(nr) for li in solved if (r, li) not in units]
+        units.update(zip(todo, _solves(request, opts, timer, method, voxels, todo)))
+        # the solved wavelengths' own request (grids only: units index the full request's wavelengths)
+        coarse_request = request.with_grids(wavelengths_nm=tuple(request.grids.wavelengths_nm[i] for i in solved))
         t0 = time.perf_counter()
         extra = {"tier_probe": report, "realizations_used": nr}
-        if nl < len(request.grids.wavelengths_nm):
+        if len(solved) < count:
             extra["solved_wavelengths_nm"] = list(coarse_request.grids.wavelengths_nm)
         meta = table_meta(request, tier, reason, seeds=[realization_seed(request, r) for r in range(nr)],
                           timings_s=timer.stages, extra=extra)
-        table = reduce_units(coarse_request, units, meta)
-        if nl < len(request.grids.wavelengths_nm):
-            table = spectral.refine(table, spectral.guide_film(request), solved)
+        table = reduce_units(coarse_request, [[units[r, li] for li in solved] for r in range(nr)], meta)
+        if len(solved) < count:
+            table = spectral.refine(table, spectral.guide_film(request), tuple(solved))
+            broken = spectral.unsolved_breaking_energy(table, solved)
+            if broken:
+                # the guide film's bands are sharper than the solved wavelengths resolve: what the
+                # interpolation cannot give is solved, never passed off (docs/tables.md, "Wavelength stride")
+                log.info("film-guided wavelengths break energy at %s nm: solving them",
+                         [round(float(request.grids.wavelengths_nm[i])) for i in broken])
+                solved = sorted(set(solved) | set(broken))
+                timer.add("reduce", time.perf_counter() - t0)
+                continue
         timer.add("reduce", time.perf_counter() - t0)
         more = _more_realizations(request, table, nr)
         if more == nr:

@@ -26,12 +26,33 @@ log = logging.getLogger("inkbsdf.tables")
 #: buffers) — fitted to 160 MB at 64×64×32 and 735 MB at 128×128×64 (docs/tables.md)
 SOLVE_BASE_BYTES = 80e6
 SOLVE_BYTES_PER_VOXEL = 620.0
-#: wave solve time per operator application per voxel·log2(voxels), and applications per solve
-SECONDS_PER_VOXEL_LOG = 3e-9
-APPLICATIONS_PER_SOLVE = 15
-#: a rough top's solves (above and below) converge slowly: 78.8 applications per solve pair
-#: against 2 × 14.0 for the flat layer (R15, 300-nm spheres, default preset, Fig. 7 run)
-ROUGH_TOP_SOLVE_FACTOR = 2.8
+#: wave solve CPU time per operator application per voxel·log2(voxels), everything of a table
+#: unit included (preparation, orders, energy), and applications per solve: measured per unit
+#: (solve_unit, one FFT thread, Y7.5+B7.5 300-nm spheres at 580 nm, 14 solves of 13.4
+#: applications): 12.2 ms per application at 64×64×32, 4.7 ms at 48×48×24 (5.5e-9 s per
+#: voxel·log2 voxel on this project's 2-core VM, under load, yardstick 1.6 s; docs/tables.md)
+SECONDS_PER_VOXEL_LOG = 5.5e-9
+APPLICATIONS_PER_SOLVE = 14
+#: a rough top's solve (above and below: both counted) against the flat layer's, in CPU time:
+#: with the layered preconditioner (solver/wave/layered.py) 35–40 applications per solve pair
+#: against 2 × 12.8–18.1 for the flat twin, plus the preconditioner's set-up and one more
+#: lateral FFT per application (R15, 300-nm spheres, 500 and 740 nm, 48×48×24 and 64×64×32:
+#: unit CPU 3.0–3.2× the flat twin's, i.e. 1.5–1.6 per solve); a whole rough-top cell (R15,
+#: default preset, 11 wavelengths) took 1.4× more relative to its flat twin than that
+#: (`bench_figures sample-quick`, docs/figures.md): 2.2
+ROUGH_TOP_SOLVE_FACTOR = 2.2
+#: starting a local pool (spawned workers importing the solver), seconds
+POOL_START_S = 2.0
+#: tier auto: the probe solves realization 0 at this many wavelengths fully and by Born
+#: (tier_choice.probe_wavelength_indices); a Born solve costs one application plus the solve's
+#: fixed work (preparation, orders, energy: ≈ 2 applications' worth in the unit profile)
+PROBE_WAVELENGTHS = 3
+BORN_SOLVE_APPLICATIONS = 3.0
+#: the share of tier-auto cells that end with the full solve, by the grains' (volume-equivalent)
+#: diameter: none up to FULL_FROM_NM, all from FULL_ALL_NM, linear between; rough tops always.
+#: Measured on the preview Fig. 7 (docs/data/fig7_preview.csv, column `tier`, 21 rows each):
+#: 30 nm 0/21, 100 nm 1–4/21, 200 nm 6–12/21, 300 nm 17–20/21, 450 nm and rough tops 21/21
+FULL_FROM_NM, FULL_ALL_NM = 100.0, 300.0
 #: thin-film tier: seconds per (wavelength × angle), measured 0.2 s for 41 × 1000
 MOLECULAR_SECONDS_PER_SAMPLE = 5e-6
 #: grains smaller than this share of a voxel are only an average of the voxels they touch
@@ -102,11 +123,32 @@ def estimate(request: TableRequest, workers: int = 1) -> Estimate:
     geometry_s = sum(c.seconds for c in geoms)
     geometry_bytes = max((c.peak_bytes for c in geoms), default=0)
     solve_bytes = SOLVE_BASE_BYTES + SOLVE_BYTES_PER_VOXEL * voxels
-    solves = w.realizations * nl * int(g.solved_mask.sum()) * w.azimuths * (2 if needs_below(request) else 1)
+    solved_wl = len(request.solved_wavelength_indices)          # the rest are film-guided (spectral.py)
+    solves = w.realizations * solved_wl * int(g.solved_mask.sum()) * w.azimuths * (2 if needs_below(request) else 1)
     per_solve = solve_seconds(w.grid) * (ROUGH_TOP_SOLVE_FACTOR if request.has_rough_top else 1.0)
-    seconds = (geometry_s * w.realizations + solves * per_solve) / max(1, workers)
+    solve_s = solves * per_solve
+    if w.tier in ("auto", "born"):
+        born = solves * solve_seconds(w.grid) * BORN_SOLVE_APPLICATIONS / APPLICATIONS_PER_SOLVE
+        probe = solves * min(PROBE_WAVELENGTHS, solved_wl) / (solved_wl * w.realizations)   # probe solves
+        if w.tier == "born":
+            solve_s = born
+        else:
+            p = full_tier_share(request)
+            solve_s = p * solve_s + (1 - p) * (born + probe * per_solve) + probe * per_solve * (
+                BORN_SOLVE_APPLICATIONS / APPLICATIONS_PER_SOLVE)
+    seconds = (geometry_s * w.realizations + solve_s) / max(1, workers) + (POOL_START_S if workers > 1 else 0.0)
     return Estimate(int(table), int(max(solve_bytes, geometry_bytes) + 3 * table), int(grains),
                     int(solves), float(seconds), float(geometry_s))
+
+
+def full_tier_share(request: TableRequest) -> float:
+    """The expected share of tier auto ending with the full solve (FULL_FROM_NM, FULL_ALL_NM):
+    the largest over the request's particle layers; 1 with a rough top."""
+    if request.has_rough_top:
+        return 1.0
+    sizes = [layer.particles.diameter_nm for layer in request.layers if layer.particles is not None]
+    d = max(sizes, default=0.0)
+    return float(min(1.0, max(0.0, (d - FULL_FROM_NM) / (FULL_ALL_NM - FULL_FROM_NM))))
 
 
 def solve_seconds(grid: tuple[int, int, int]) -> float:

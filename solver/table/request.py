@@ -63,7 +63,7 @@ class WaveSettings:
     """How a particle layer is sampled and solved (docs/tables.md)."""
 
     cell_nm: float = 2000.0                    # lateral period of the random cell
-    grid: tuple[int, int, int] = (64, 64, 32)  # voxels (x, y, z)
+    grid: tuple[int, int, int] = (48, 48, 24)  # voxels (x, y, z)
     realizations: int = 4                      # random cells per wavelength
     azimuths: int = 2                          # incidence azimuths per realization
     solver_tol: float = 1e-3                   # wave solver relative residual (docs/wave_solver.md)

@@ -117,6 +117,26 @@ def _closure(table: InkTable) -> float:
     return _ENERGY_TOL * 10 + float(table.meta.get("errors", {}).get("energy_closure_max") or 0.0)
 
 
+def energy_excess(table: InkTable) -> tuple[np.ndarray, np.ndarray]:
+    """Per wavelength, how far the table breaks energy beyond what it may ([λ] each; ≤ 0 when it
+    holds): R̄ + T̄ − 1 from above (worst σ) past the solver's closure, and from below the
+    cosine-weighted R̄_below + T̄ − 1 past the closure and its sampling allowance."""
+    closure = _closure(table)
+    above = np.max(table.Rbar + table.Tbar - 1.0, axis=1) - closure
+    # From below, per angle, Tbar (from above) is not the transmittance: for a layer whose faces
+    # differ (a rough top, a stack) T_below(s) ≠ T_above(s).  Reciprocity equates them only
+    # cosine-weighted over the hemisphere, which is what light coming back from the paper sees:
+    # 2∫(Rbar_below + Tbar) cos s sin s ds ≤ 1 (docs/design.md §1).
+    # Rbar_below and Tbar come from different solves (from below, from above) of the same cells,
+    # so their sum is only as close to energy conservation as their standard errors allow.
+    sampling = np.zeros(table.wavelengths.size)
+    if "Rbar_below" in table.errors and "Tbar" in table.errors:
+        both = np.nan_to_num(table.errors["Rbar_below"]) + np.nan_to_num(table.errors["Tbar"])
+        sampling = BELOW_SE_MULTIPLE * hemispherical_mean(table.sigma, both)
+    below = hemispherical_mean(table.sigma, table.Rbar_below + table.Tbar) - 1.0 - sampling - closure
+    return above, below
+
+
 def validate(table: InkTable, where: str = "table") -> InkTable:
     """Check shapes, finiteness, grids, physical ranges and version; return the table."""
     meta = table.meta
@@ -158,21 +178,11 @@ def validate(table: InkTable, where: str = "table") -> InkTable:
         excess = float(np.max(table.column(coherent) - table.column(total)))
         _check(excess <= _ENERGY_TOL, where, f"'{coherent}' exceeds '{total}' by {excess:.3g}")
     errors = meta.get("errors", {})
-    closure = _closure(table)
-    over = float(np.max(table.Rbar + table.Tbar - 1.0))
-    _check(over <= closure, where, f"'Rbar' + 'Tbar' exceeds 1 by {over:.3g}")
-    # From below, per angle, Tbar (from above) is not the transmittance: for a layer whose faces
-    # differ (a rough top, a stack) T_below(s) ≠ T_above(s).  Reciprocity equates them only
-    # cosine-weighted over the hemisphere, which is what light coming back from the paper sees:
-    # 2∫(Rbar_below + Tbar) cos s sin s ds ≤ 1 (docs/design.md §1).
-    # Rbar_below and Tbar come from different solves (from below, from above) of the same cells,
-    # so their sum is only as close to energy conservation as their standard errors allow.
-    sampling = np.zeros(table.wavelengths.size)
-    if "Rbar_below" in table.errors and "Tbar" in table.errors:
-        both = np.nan_to_num(table.errors["Rbar_below"]) + np.nan_to_num(table.errors["Tbar"])
-        sampling = BELOW_SE_MULTIPLE * hemispherical_mean(table.sigma, both)
-    over = hemispherical_mean(table.sigma, table.Rbar_below + table.Tbar) - 1.0 - sampling
-    _check(float(np.max(over)) <= closure, where, f"'Rbar_below' + 'Tbar' exceeds 1 by {float(np.max(over)):.3g} "
+    above, below = energy_excess(table)
+    _check(float(np.max(above)) <= 0.0, where,
+           f"'Rbar' + 'Tbar' exceeds 1 by {float(np.max(above)) + _closure(table):.3g}")
+    _check(float(np.max(below)) <= 0.0, where,
+           f"'Rbar_below' + 'Tbar' exceeds 1 by {float(np.max(below)) + _closure(table):.3g} "
            f"under diffuse light from below (beyond {BELOW_SE_MULTIPLE:g} standard errors)")
     scale = max(1.0, float(np.max(table.R)))
     for axis, grid in ((1, table.sigma), (2, table.theta)):     # no azimuth reference at a normal

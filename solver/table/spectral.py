@@ -107,6 +107,19 @@ def refine(coarse: InkTable, film: InkTable, solved: tuple[int, ...], meta: dict
                                meta=dict(coarse.meta if meta is None else meta), **cols, **extra)
 
 
+def unsolved_breaking_energy(table: InkTable, solved) -> list[int]:
+    """Indices of the refined table's interpolated (unsolved) wavelengths at which it breaks
+    energy beyond the solver's closure (schema.energy_excess, from above or below): where a
+    pigment's band is sharper than the solved wavelengths resolve, the film-guided difference
+    can put R̄ + T̄ above 1 (R15 with 200-nm grains at 20-nm steps: by 0.028).  The caller solves
+    them; an empty list when the refinement holds."""
+    from .schema import energy_excess
+
+    above, below = energy_excess(table)
+    done = set(int(i) for i in solved)
+    return [int(i) for i in np.flatnonzero((above > 0) | (below > 0)) if int(i) not in done]
+
+
 def flattening(alpha_chord: np.ndarray) -> np.ndarray:
     """The package effect (Duysens' flattening): a grain's absorption relative to the same
     pigment dissolved, Q(x)/(2x/3) with Q(x) = 1 + 2e^{−x}/x + 2(e^{−x} − 1)/x² the absorption
@@ -152,4 +165,4 @@ def guide_film(request, chord_per_diameter: float = CHORD_PER_DIAMETER) -> InkTa
                       request.polarisation, {"schema_version": 2, "polarisation": request.polarisation})
 
 
-__all__ = ["solved_indices", "refine", "guide_film", "guide_eps", "flattening", "CHORD_PER_DIAMETER"]
+__all__ = ["solved_indices", "refine", "unsolved_breaking_energy", "guide_film", "guide_eps", "flattening", "CHORD_PER_DIAMETER"]

@@ -9,6 +9,7 @@ import numpy as np
 
 from .faces import DEFAULT_TM_FACES, TMFaces, preset_name
 from .interfaces import FaceLayers
+from . import layered
 from .energy import absorption, closure, midpoint_absorption
 from .fftback import DEFAULT_FFT
 from .kernel1d import background_amplitudes, face_profiles, harmonic_green
@@ -106,8 +107,34 @@ def _gmres_restart(op: LayerOperator) -> int:
     return min(60, memory_restart(op))
 
 
+def _layered_gmres(op: LayerOperator, b: np.ndarray, ws: Workspace, tol: float, maxiter: int,
+                   restart: int, x0: np.ndarray | None, callback: Callback) -> KrylovOutcome:
+    """GMRES on the layered-preconditioned system w − M⁻¹GV′w = M⁻¹b (layered.py) until the
+    *true* relative residual ‖b − (I − GV)w‖/‖b‖ meets tol: each round ends with one explicit
+    residual (one application); a round that met its own tolerance but not the true one is
+    followed by a tighter one from its iterate.  The outcome's residual vector is the true one
+    (the energy closure reads it)."""
+    lay = layered.prepare_layered(op)
+    bp = layered.right_hand_side(op, lay, b)
+    bnorm = float(np.linalg.norm(b.ravel())) or 1.0
+    x, apps, history, inner_tol, rel, r = x0, 0, [], tol, math.inf, None
+    for _ in range(4):
+        out = gmres(lambda v, o: layered.scatter(op, lay, v, ws, o), bp, tol=inner_tol,
+                    maxiter=maxiter - apps, restart=restart, backend=op.fft, x0=x, callback=callback)
+        apps += out.applications + 1
+        history.extend(out.residuals)
+        x = out.x
+        r = b - system_zmajor(op, x, ws)
+        rel = float(np.linalg.norm(r.ravel())) / bnorm
+        if rel <= tol or apps >= maxiter or not out.converged:
+            break
+        inner_tol = out.true_residual * 0.5 * tol / rel        # the ratio seen, with a margin
+    return KrylovOutcome(x, tuple(history), apps, rel <= tol, rel, "gmres", r)
+
+
 def _run(op: LayerOperator, b: np.ndarray, method: str, tol: float, maxiter: int,
-         restart: int | None, x0: np.ndarray | None, callback: Callback) -> KrylovOutcome:
+         restart: int | None, x0: np.ndarray | None, callback: Callback,
+         preconditioner: str = "auto") -> KrylovOutcome:
     """The iteration on the z-major layout (operator.py) for the z-major right-hand side b;
     x0 is in the public layout (nb, nx, ny, nz), the returned solution and residual are
     z-major."""
@@ -117,6 +144,8 @@ def _run(op: LayerOperator, b: np.ndarray, method: str, tol: float, maxiter: int
     kw = dict(tol=tol, maxiter=maxiter, callback=callback,
               x0=None if x0 is None else to_zmajor(np.asarray(x0, dtype=op.dtype), op.fft))
     try:
+        if method == "gmres" and layered.wanted(op, preconditioner):
+            return _layered_gmres(op, b, ws, restart=max(1, restart or _gmres_restart(op)), **kw)
         if method == "gmres":
             m = max(1, restart or _gmres_restart(op))
             return gmres(lambda x, o: scatter_zmajor(op, x, ws, o), b, restart=m, backend=op.fft,
@@ -158,8 +187,8 @@ def solve_prepared(op: LayerOperator, from_below: bool = False, *, tol: float = 
                    method: str = "auto", maxiter: int = 500, restart: int | None = None,
                    on_fail: str = "raise", return_field: bool = False,
                    exact_energy: bool = False, energy_bound: float = ENERGY_BOUND,
-                   x0: np.ndarray | None = None, callback: Callback = None
-                   ) -> DiffractionResult:
+                   x0: np.ndarray | None = None, callback: Callback = None,
+                   preconditioner: str = "auto") -> DiffractionResult:
     """Solve for a unit plane wave with the Bloch vector of `op`, from above or below.
 
     tol: relative residual ‖b − A·w‖/‖b‖ at which the iteration stops.  method: 'auto'
@@ -174,10 +203,14 @@ def solve_prepared(op: LayerOperator, from_below: bool = False, *, tol: float = 
     residual (one inner product); see DiffractionResult.energy_check.
     x0: initial guess, e.g. `solution` of a solve at a neighbouring wavelength or incidence
     (same grid; GMRES and BiCGStab).  callback(applications, relative_residual) is called
-    after every iteration.
+    after every iteration.  preconditioner: 'auto' (GMRES on a cell with a strong
+    laterally uniform contrast, such as a rough top's air, runs on the layered-preconditioned
+    system: layered.py), 'layered' (wherever it applies) or 'none'.
     """
     if method not in METHODS:
         raise ValueError(f"method must be one of {METHODS}, got {method!r}")
+    if preconditioner not in layered.MODES:
+        raise ValueError(f"preconditioner must be one of {layered.MODES}, got {preconditioner!r}")
     if on_fail not in ON_FAIL:
         raise ValueError(f"on_fail must be one of {ON_FAIL} (a non-converged solve is never a "
                          f"result with a warning), got {on_fail!r}")
@@ -192,7 +225,7 @@ def solve_prepared(op: LayerOperator, from_below: bool = False, *, tol: float = 
     nx, ny, nz = op.shape
     b = to_zmajor(source(op, from_below), op.fft)
     with one_blas_thread():     # vector work on one BLAS thread (vecops.py), not only Krylov's
-        out = _run(op, b, method, tol, maxiter, restart, x0, callback)
+        out = _run(op, b, method, tol, maxiter, restart, x0, callback, preconditioner)
         f_z = op.contrast_zmajor * out.x                          # z-major, as out.x
         w = op.fft.to_host(from_zmajor(out.x))                     # the solution, on the host
         refl, trans, kz_inc = diffraction_orders(op, f_z, from_below, zmajor=True)
@@ -256,8 +289,8 @@ def solve(cell: Cell, incidence: Incidence, *, tol: float = DEFAULT_TOL, method:
           workers: int | None = None, polarisation: str = "te",
           eps_face: "complex | FaceLayers | None" = None,
           background: Background | None = None,
-          fft: str = DEFAULT_FFT, tm_faces: "str | TMFaces" = DEFAULT_TM_FACES
-          ) -> DiffractionResult:
+          fft: str = DEFAULT_FFT, tm_faces: "str | TMFaces" = DEFAULT_TM_FACES,
+          preconditioner: str = "auto") -> DiffractionResult:
     """Diffraction of a unit plane wave by one periodic cell (see solve_prepared, prepare).
 
     For several incidences with the same Bloch vector (above and below), call prepare() once
@@ -277,7 +310,7 @@ def solve(cell: Cell, incidence: Incidence, *, tol: float = DEFAULT_TOL, method:
     res = solve_prepared(op, incidence.from_below, tol=tol, method=method, maxiter=maxiter,
                          restart=restart, on_fail=on_fail, return_field=return_field,
                          exact_energy=exact_energy, energy_bound=energy_bound, x0=x0,
-                         callback=callback)
+                         callback=callback, preconditioner=preconditioner)
     return replace(res, seconds=time.perf_counter() - t0)
 
 

@@ -10,14 +10,17 @@ unknowns). The rule picks one by an *aim* for the black coverage K of each targe
     K_n(L*)   the black alone that prints lightness L* (its ramp inverted; 0 above the paper)
     g         greyness: 1 − C*/C*_max(h, L*) against the print's gamut (1 on the neutral axis,
               0 on the gamut's boundary)
-    gcr       x = K_n·g          (grey component replacement: black takes the grey part of every colour)
-    ucr       x = K_n·g⁴         (under-colour removal: black in the near-neutral shadows only)
-    K_aim     strength · x · smoothstep((x − start)/(1 − start))    (no black below the start,
-              entering without a kink)
+    curve     0 for K_n ≤ start, then linear to 1 at K_n = 1, its corner rounded (a parabola over
+              `START_WIDTH`): no black in the light tones, entering without a kink
+    gcr       K_aim = strength · g · curve(K_n)    (grey component replacement: black takes the
+              grey part of every colour)
+    ucr       K_aim = strength · g⁴ · curve(K_n)   (under-colour removal: black in the
+              near-neutral shadows only)
 
-and the separation minimises |Lab(c) − t|² + (w_K·(c_K − K_aim))² + (w_TAC·max(0, Σc − TAC))²:
-the colour is matched first (w_K = `K_WEIGHT` ΔE per unit coverage is small against the colour's
-sensitivity, so the aim gives way where the colour needs more or less black) and the total area
+and the separation minimises |Lab(c) − t|² + (w_K·(c_K − K_aim))² + (w_TAC·max(0, Σc − TAC))²
+twice: with w_K = `K_WEIGHT` ΔE per unit coverage (the aim chooses the black), then, from
+there, with w_K = `K_POLISH_WEIGHT` (the colour is matched: in the deep shadows the colour hardly
+depends on the inks, and the first pass would trade half a ΔE for the aim). The total area
 coverage limit is a stiff penalty, enforced exactly at the end by scaling the chromatic inks
 (`enforce_tac`). Defaults: `BlackGeneration()` — GCR, strength 0.7, start 0.2, TAC 300 %.
 """
@@ -31,8 +34,10 @@ import numpy as np
 BLACK_MODES = ("gcr", "ucr")
 DEFAULT_TAC = 3.0                # 300 %
 K_WEIGHT = 3.0                   # ΔE per unit coverage of the black aim's residual
+K_POLISH_WEIGHT = 0.03           # … in the polishing pass that matches the colour
 TAC_WEIGHT = 300.0               # ΔE per unit coverage above the limit
 _UCR_POWER = 4
+START_WIDTH = 0.1                # K_n over which the black curve rounds its start
 
 
 @dataclass(frozen=True)
@@ -60,9 +65,16 @@ class BlackGeneration:
     def aim(self, k_neutral, greyness) -> np.ndarray:
         """K_aim from the neutral black K_n and the greyness g (module docstring)."""
         g = np.clip(greyness, 0.0, 1.0)
-        x = np.clip(k_neutral, 0.0, 1.0) * (g if self.mode == "gcr" else g ** _UCR_POWER)
-        t = np.clip((x - self.start) / (1.0 - self.start), 0.0, 1.0)
-        return self.strength * x * t * t * (3.0 - 2.0 * t)
+        return self.strength * (g if self.mode == "gcr" else g ** _UCR_POWER) * self.curve(k_neutral)
+
+    def curve(self, k_neutral) -> np.ndarray:
+        """The black curve of a neutral: 0 up to the start, then linear to 1 at K_n = 1, the
+        corner rounded over `START_WIDTH` (a parabola: no kink, so no visible step in a
+        gradient where the black starts)."""
+        x = np.clip(np.asarray(k_neutral, dtype=np.float64), 0.0, 1.0) - self.start
+        w = min(START_WIDTH, 1.0 - self.start)
+        r = np.where(x <= 0.0, 0.0, np.where(x < w, x * x / (2 * w), x - w / 2))
+        return r / (1.0 - self.start - w / 2)
 
 
 def find_black(model) -> int | None:
@@ -78,17 +90,19 @@ def find_black(model) -> int | None:
 
 def black_index(model, inks, black_spec: str | None) -> int | None:
     """The black ink's index: `black_spec` (an ink of `inks`, or 'none'), else the ink whose
-    pigment is K, else `find_black`."""
+    main pigment is K, else `find_black`."""
+    from .printset import dominant_pigment, split_ink
+
+    specs = [split_ink(x)[0] for x in inks]
     if black_spec is not None:
         if black_spec == "none":
             return None
-        if black_spec not in inks:
+        spec = split_ink(black_spec)[0]
+        if spec not in specs:
             raise ValueError(f"black ink {black_spec!r} is not one of the inks ({', '.join(inks)})")
-        return inks.index(black_spec)
-    from solver.inks import parse_ink
-
-    for i, spec in enumerate(inks):
-        if [code for code, _ in parse_ink(spec).components] == ["K"]:
+        return specs.index(spec)
+    for i, spec in enumerate(specs):
+        if dominant_pigment(spec) == "K":
             return i
     return find_black(model)
 
@@ -102,6 +116,7 @@ class InkingObjective:
     rule: BlackGeneration
     k_lightness: np.ndarray        # L* of the black alone at K_NODES coverages (decreasing)
     boundary: object               # GamutBoundary (greyness), or None
+    k_weight: float = K_WEIGHT
 
     K_NODES = 65
 
@@ -117,8 +132,19 @@ class InkingObjective:
         return self.model.n_inks
 
     @property
+    def tac_limit(self) -> float:
+        """The solver projects its steps onto Σc ≤ this (the penalty then only shapes its Jacobian)."""
+        return self.rule.tac
+
+    @property
     def extras(self) -> int:
         return 2 if self.black is not None else 1
+
+    def polished(self) -> "InkingObjective":
+        """The objective of the polishing pass (module docstring)."""
+        from dataclasses import replace
+
+        return replace(self, k_weight=K_POLISH_WEIGHT)
 
     def k_neutral(self, L) -> np.ndarray:
         """K_n(L*): the black alone that prints lightness L* (0 above paper, 1 below the solid)."""
@@ -142,7 +168,7 @@ class InkingObjective:
         lab = np.asarray(lab, dtype=np.float64).reshape(-1, 3)
         cols = [lab]
         if self.black is not None:
-            cols.append(K_WEIGHT * self.k_aim(lab)[:, None])
+            cols.append(self.k_weight * self.k_aim(lab)[:, None])
         cols.append(np.zeros((lab.shape[0], 1)))
         return np.concatenate(cols, axis=1)
 
@@ -151,7 +177,7 @@ class InkingObjective:
         c = np.asarray(coverages, dtype=np.float64)
         cols = [self.model.lab(c)]
         if self.black is not None:
-            cols.append(K_WEIGHT * c[..., self.black:self.black + 1])
+            cols.append(self.k_weight * c[..., self.black:self.black + 1])
         cols.append(TAC_WEIGHT * np.maximum(c.sum(axis=-1, keepdims=True) - self.rule.tac, 0.0))
         return np.concatenate(cols, axis=-1)
 

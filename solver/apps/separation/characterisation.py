@@ -16,7 +16,7 @@ The colour of a patch is the model's (`PrintColourModel`: its coverage model, pa
 measurement, 45:0 D50 2° by default) as absolute CIELAB and XYZ (the perfect diffuser = 100),
 the way an instrument reports a press sheet; the header says it is a prediction.
 
-Which chromatic ink is C, M and Y: the ink whose pigment letter is C, M or Y; otherwise the
+Which chromatic ink is C, M and Y: the ink whose main pigment is C, M or Y; otherwise the
 assignment of the three chromatic inks to the hues 235°, 350° and 95° (cyan, magenta, yellow
 solids of ISO 12647-2) that minimises the sum of hue differences of their solids.
 """
@@ -58,14 +58,14 @@ def generic_chart(n_inks: int) -> np.ndarray:
 
 def process_order(model, inks, black: int) -> list[int]:
     """Indices of the inks playing C, M, Y, K (module docstring)."""
-    from solver.inks import parse_ink
+    from .printset import dominant_pigment
 
     chromatic = [i for i in range(len(inks)) if i != black]
     letters = {}
     for i in chromatic:
-        codes = [code for code, _ in parse_ink(inks[i]).components]
-        if len(codes) == 1 and codes[0] in PROCESS_HUES_DEG:
-            letters[codes[0]] = i
+        main = dominant_pigment(inks[i])
+        if main in PROCESS_HUES_DEG:
+            letters[main] = i
     if len(letters) == 3:
         return [letters["C"], letters["M"], letters["Y"], black]
     lab = model.lab(np.eye(model.n_inks))
@@ -100,7 +100,7 @@ def characterisation_text(model, inks, black: int | None, created: str | None = 
         "CGATS.17",
         'ORIGINATOR\t"inkbsdf (python -m inkbsdf.print --characterisation)"',
         f'DESCRIPTOR\t"IT8.7/4-style chart predicted by the inkbsdf print model: {roles}; '
-        f'{model.coverage_model}; paper albedo as printed; not a measurement"',
+        f'{model.coverage_model}; paper albedo {float(np.mean(model.predictor.paper)):g}; not a measurement"',
         f'CREATED\t"{created}"',
         'INSTRUMENTATION\t"none: colours predicted by the print model"',
         f'MEASUREMENT_SOURCE\t"Illumination={m.illuminant}\tObserverAngle={m.observer}\tWhiteBase=Abs\tFilter=No"',

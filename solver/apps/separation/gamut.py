@@ -26,17 +26,18 @@ chroma.
    print reaches; a*, b* unchanged.
 2. Chroma toward the cusp: in the hue slice of the colour, along the ray from the focal point
    F = (C* 0, L_F) through the colour, L_F = L*_cusp(h) + w·(L' − L*_cusp(h)) between the
-   cusp's lightness (w = 0: all rays to the cusp, the most chroma) and the colour's own (w → 1:
-   constant lightness, the most faithful lightness ordering; `lightness_weight`, default 0.5), with d its distance from F, D the
-   distance to the print's boundary (less `margin_de` of chroma) and S the distance to the sRGB gamut's
-   boundary (after step 1): if S ≤ D nothing moves; else colours within `knee`·D keep their place
-   and beyond it d ↦ kD + (D − kD)·s·t/(1 + (s − 1)·t), t = (d − kD)/(S − kD),
-   s = (S − kD)/(D − kD) — slope 1 at the knee (no kink), the sRGB boundary lands on the print's
-   boundary, monotone along the ray. Hue is untouched.
+   cusp's lightness (w = 0: all rays to the cusp, the most chroma) and the colour's own
+   (w → 1: constant lightness, the most faithful lightness; `lightness_weight`, default 0.7,
+   measured in benchmarks/bench_press.py), with d the colour's distance from F, D the distance
+   to the print's boundary (less `margin_de` of chroma) and S the distance to the sRGB gamut's
+   boundary (after step 1): if S ≤ D nothing moves; else colours within `knee`·D keep their
+   place and beyond it d ↦ kD + (D − kD)·s·t/(1 + (s − 1)·t), t = (d − kD)/(S − kD),
+   s = (S − kD)/(D − kD) — slope 1 at the knee (no kink), the sRGB boundary lands on the
+   print's boundary, monotone along the ray. Hue is untouched.
 
 Every step is continuous in the colour, so smooth gradients stay smooth (no notch where
 nearest-colour clipping would fold a ramp onto the boundary) and ramps that rise in L* stay
-monotone (tests/test_separation_gamut.py).
+monotone (tests/test_separation_press.py).
 """
 
 from __future__ import annotations
@@ -65,7 +66,7 @@ class GamutSettings:
     """Knobs of the mapping (benchmarks/bench_separation.py measures them)."""
 
     knee: float = 0.8           # share of the print's boundary distance left untouched
-    lightness_weight: float = 0.5   # focal point: 0 the hue's cusp L*, 1 the colour's own L*
+    lightness_weight: float = 0.7   # focal point: 0 the hue's cusp L*, 1 the colour's own L*
     margin_de: float = 1.5      # mapped colours land this much chroma (CIELAB units) inside the boundary
 
     def __post_init__(self):
@@ -220,6 +221,22 @@ class GamutBoundary:
         return GamutBoundary(self.hue_deg, self.lightness, cmax, self.white_l, self.black_l,
                              _smooth_hue(self.lightness[best][:, None], 2 * HUE_SMOOTHING_BINS)[:, 0],
                              cmax[np.arange(HUE_BINS), best])
+
+    def with_black(self, black_l: float) -> "GamutBoundary":
+        """The boundary with its black raised to `black_l` (what the separation reaches): the
+        slices' profiles stretched in L* from black…white onto the new black…white (a cut
+        would leave a flat floor with a corner)."""
+        if black_l <= self.black_l or black_l >= self.white_l:
+            return self
+        from dataclasses import replace
+
+        old = self.black_l + (self.lightness - black_l) * (self.white_l - self.black_l) / (self.white_l - black_l)
+        cmax = np.stack([np.interp(old, self.lightness, row) for row in self.cmax])
+        cmax[:, self.lightness < black_l] = np.minimum(cmax[:, self.lightness < black_l], -1.0)
+        best = np.argmax(cmax, axis=1)
+        return replace(self, cmax=cmax, black_l=float(black_l),
+                       cusp_l=_smooth_hue(self.lightness[best][:, None], 2 * HUE_SMOOTHING_BINS)[:, 0],
+                       cusp_c=cmax[np.arange(HUE_BINS), best])
 
     def _hue_weights(self, h_deg):
         width = 360.0 / HUE_BINS

@@ -18,11 +18,12 @@ from pathlib import Path
 
 import numpy as np
 
-from solver.paper import PAPER_ALBEDO, check_paper_albedo
+from solver.paper import check_paper_albedo
 from solver.printing import COVERAGE_MODELS, PrintedInks
 from .black import BlackGeneration, black_index
 from .colour_space import DEFAULT_INTENT, check_intent
 from .gamut import GamutSettings
+from .printset import default_paper
 from .halftone import Dots, TexelGrid, halftone_ink, print_size
 from .image import write_grey_png
 from .printmodel import PrintColourModel
@@ -50,7 +51,7 @@ class PrintSettings:
     inks: tuple[str, ...]                         # ink specs in printing order (printset)
     dots: Dots = Dots("none")
     coverage_model: str = AUTO_MODEL
-    paper: float = PAPER_ALBEDO                   # paper albedo
+    paper: float | None = None                    # paper albedo; None: printset.default_paper(inks)
     size_cm: tuple = (DEFAULT_WIDTH_CM, None)     # (width, height or None: the image's aspect)
     dpi: float | None = None                      # texture resolution (None: halftone.default_dpi)
     intent: str = DEFAULT_INTENT
@@ -66,6 +67,8 @@ class PrintSettings:
         check_intent(self.intent)
         if self.mapping not in MAPPINGS:
             raise ValueError(f"gamut mapping must be one of {', '.join(MAPPINGS)}; got {self.mapping!r}")
+        if self.paper is None:
+            object.__setattr__(self, "paper", default_paper(self.inks))
         check_paper_albedo(self.paper)
         if self.dpi is not None and not self.dpi > 0:
             raise ValueError(f"dpi must be positive, got {self.dpi}")
@@ -117,7 +120,7 @@ def build_separator(settings: PrintSettings, printed: PrintedInks) -> Separator:
 
 def texture_name(stem: str, index: int, ink: str) -> str:
     """File name of ink `index` (0-based) of a print: '<stem>_<n>_<ink>.png'."""
-    return f"{stem}_{index + 1}_{ink.replace('+', '_').replace('.', 'p')}.png"
+    return f"{stem}_{index + 1}_{ink.replace('+', '_').replace('.', 'p').replace('@', '_')}.png"
 
 
 def write_textures(result: PrintedImage, folder, stem: str) -> list[Path]:

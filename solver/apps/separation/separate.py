@@ -33,6 +33,8 @@ MAPPINGS = ("perceptual", "clip")
 DEFAULT_MAPPING = "perceptual"
 DEFAULT_LUT_NODES = 33
 MAPPED_DE = 0.5                     # ΔE76 a colour must move to count as gamut-mapped
+REFINE_ITERATIONS = 15             # LM steps (one start) of the boundary's check against the print
+BLACK_MARGIN_L = 0.2                # L* above the darkest neutral reached where the mapping puts black
 
 
 @dataclass(frozen=True)
@@ -59,7 +61,13 @@ class Separator:
         hull = GamutBoundary.build(model, rule.tac)
         objective = InkingObjective.build(model, black, rule, hull)
         grid = CoverageGrid.build(objective, solver.nodes(model.n_inks))
-        boundary = hull.refined(lambda lab: separate_lab(model, lab, solver, grid, objective=objective).printed_lab)
+        quick = replace(solver, starts=1, near_miss_starts=0, max_iterations=REFINE_ITERATIONS)
+        printed_of = lambda lab: separate_lab(model, lab, quick, grid, objective=objective).printed_lab  # noqa: E731
+        boundary = hull.refined(printed_of)
+        # the black point is the darkest neutral the separation reaches (under the TAC, with the
+        # black rule's starts), a little above: neutrals below it would all print alike
+        reached = float(printed_of(np.array([[boundary.black_l, 0.0, 0.0]]))[0, 0])
+        boundary = boundary.with_black(reached + BLACK_MARGIN_L)
         objective = replace(objective, boundary=boundary)
         return cls(model, objective, boundary, grid, mapping, gamut, solver, lut_nodes)
 
@@ -70,6 +78,14 @@ class Separator:
             return Separator.build(self.model, self.objective.black, rule, self.mapping, self.gamut, self.solver,
                                    self.lut_nodes)
         return replace(self, objective=replace(self.objective, rule=rule))
+
+    def lightness_mapped(self, source_lab) -> np.ndarray:
+        """Source colours after the black-point compensation alone (perceptual), or as they are
+        (clip): what a colour inside the gamut prints as."""
+        lab = np.array(source_lab, dtype=np.float64).reshape(-1, 3)
+        if self.mapping == "perceptual":
+            lab[:, 0] = self.boundary.lightness_map(lab[:, 0])
+        return lab
 
     def targets(self, source_lab) -> np.ndarray:
         """The colours to print of source colours (CIELAB of sRGB): gamut-mapped or as they are."""
@@ -126,7 +142,7 @@ class SeparationReport:
 
     pixels: int
     unique_colours: int
-    mapped_pixels: int                   # moved by more than MAPPED_DE by the gamut mapping
+    mapped_pixels: int                   # moved by the chroma compression by more than MAPPED_DE
     mapping: str
     mapped_mean_de2000: float            # source → print, over the mapped pixels (0 when none)
     mapped_max_de2000: float
@@ -135,6 +151,7 @@ class SeparationReport:
     residual_pixels: int                 # pixels (table nodes with a LUT) whose miss exceeds gamut_de
     gamut_de: float
     lut_nodes: int                       # 0: every colour separated directly
+    lightness_range: tuple | None        # (black, white) L* of the black-point compensation
     black: str
     seconds: float
 
@@ -143,8 +160,12 @@ class SeparationReport:
         how = (f"through a {self.lut_nodes}³ table" if self.lut_nodes else "directly")
         out = [f"separated {self.pixels:,} pixels ({self.unique_colours:,} distinct colours) {how} in "
                f"{self.seconds:.1f} s; {self.black}; mean ΔE2000 image → print {self.mean_de2000:.2f}"]
+        if self.lightness_range is not None:
+            out.append(f"lightness compressed to the print's L* {self.lightness_range[0]:.1f}–"
+                       f"{self.lightness_range[1]:.1f} (black-point compensation)")
         if self.mapped_pixels:
-            verb = "gamut-mapped (perceptual)" if self.mapping == "perceptual" else "clipped to the closest printable colour"
+            verb = ("chroma compressed toward the cusp (perceptual)" if self.mapping == "perceptual"
+                    else "clipped to the closest printable colour")
             out.append(f"out of gamut, {verb}: {self.mapped_pixels:,} pixels ({share:.1%}); ΔE2000 mean "
                        f"{self.mapped_mean_de2000:.2f}, max {self.mapped_max_de2000:.2f}")
         else:
@@ -193,13 +214,13 @@ def separate_image(separator, rgb8: np.ndarray, settings: SolverSettings | None 
         lut, sep = SeparationLUT.build(separator, separator.lut_nodes, bar)
         coverages = lut(encoded)
         printed = model.lab(coverages)
-        moved = np.linalg.norm(printed - source, axis=-1) > MAPPED_DE      # mapped or missed
+        moved = np.linalg.norm(printed - separator.lightness_mapped(source), axis=-1) > MAPPED_DE  # or missed
         miss = sep.delta_e76                                               # at the table's nodes
         missed_count = int(np.sum(miss > separator.solver.gamut_de))
     else:
         sep, _ = separator.separate_srgb(encoded, bar)
         coverages, printed = sep.coverages, sep.printed_lab
-        moved = np.linalg.norm(sep.target_lab - source, axis=-1) > MAPPED_DE
+        moved = np.linalg.norm(sep.target_lab - separator.lightness_mapped(source), axis=-1) > MAPPED_DE
         miss = sep.delta_e76
         missed_count = int(counts[miss > separator.solver.gamut_de].sum())
     if separator.mapping == "clip":                  # the solver's miss is the clipping
@@ -212,6 +233,7 @@ def separate_image(separator, rgb8: np.ndarray, settings: SolverSettings | None 
         float(np.average(de00[moved], weights=w)) if w.sum() else 0.0, float(de00[moved].max(initial=0.0)),
         float(np.average(de00, weights=counts)), float(miss.max(initial=0.0)), missed_count,
         separator.solver.gamut_de, separator.lut_nodes if use_lut else 0,
+        (separator.boundary.black_l, separator.boundary.white_l) if separator.mapping == "perceptual" else None,
         ("black: " + separator.objective.rule.label()) if separator.objective.black is not None
         else f"no black ink, TAC {100 * separator.objective.rule.tac:g} %",
         time.perf_counter() - t0)

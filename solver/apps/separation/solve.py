@@ -115,14 +115,35 @@ def jacobian(model: PrintColourModel, c: np.ndarray, lab: np.ndarray, step: floa
     return np.moveaxis((lab_shifted - lab[:, None, :]) / h[:, :, None], 1, 2)
 
 
+def project(c: np.ndarray, tac: float | None, bisections: int = 40) -> np.ndarray:
+    """Coverages [N, k] in [0, 1] projected (Euclidean) onto Σc ≤ `tac` too: c ↦ clip(c − θ, 0, 1)
+    with θ ≥ 0 found by bisection where the sum is over the limit (None: no limit)."""
+    if tac is None:
+        return c
+    over = c.sum(axis=-1) > tac
+    if not over.any():
+        return c
+    co = c[over]
+    lo, hi = np.zeros(co.shape[0]), np.ones(co.shape[0])
+    for _ in range(bisections):
+        mid = 0.5 * (lo + hi)
+        big = np.clip(co - mid[:, None], 0.0, 1.0).sum(axis=-1) > tac
+        lo, hi = np.where(big, mid, lo), np.where(big, hi, mid)
+    out = c.copy()
+    out[over] = np.clip(co - hi[:, None], 0.0, 1.0)
+    return out
+
+
 def lm_solve(model: PrintColourModel, targets: np.ndarray, start: np.ndarray,
              settings: SolverSettings) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Projected Levenberg–Marquardt from `start`: (coverages, printed Lab, iterations).
+    """Projected Levenberg–Marquardt from `start`: (coverages, printed Lab, iterations). Steps
+    are projected onto [0, 1]^k and, for a model with a `tac_limit`, onto Σc ≤ tac_limit.
 
     With `settings.broyden` the Jacobian is computed by finite differences at the start and
     after a rejected step, and updated by Broyden's rank-one formula after an accepted one
     (J += (Δlab − J·Δc)·Δcᵀ/|Δc|²): one model evaluation per step instead of k + 1."""
-    c = np.clip(np.array(start, dtype=np.float64), 0.0, 1.0)
+    tac = getattr(model, "tac_limit", None)
+    c = project(np.clip(np.array(start, dtype=np.float64), 0.0, 1.0), tac)
     n, k = c.shape
     lab = model.lab(c)
     cost = np.sum((lab - targets) ** 2, axis=-1)
@@ -153,7 +174,7 @@ def lm_solve(model: PrintColourModel, targets: np.ndarray, start: np.ndarray,
         mask = free[:, :, None] & free[:, None, :]
         A = np.where(mask, A, eye)                                 # held coverages: δ = 0
         step = -np.linalg.solve(A, np.where(free, g, 0.0)[..., None])[..., 0]
-        c_new = np.clip(ci + step, 0.0, 1.0)
+        c_new = project(np.clip(ci + step, 0.0, 1.0), tac)
         lab_new = model.lab(c_new)
         cost_new = np.sum((lab_new - ti) ** 2, axis=-1)
         cost_before = cost[idx]
@@ -247,6 +268,10 @@ def separate_lab(model: PrintColourModel, target_lab, settings: SolverSettings =
         part = slice(start, start + settings.chunk)
         t = wanted[part]
         coverages[part], _, iterations[part] = multistart(solved, t, grid, settings)
+        if objective is not None and objective.black is not None:      # polish: the colour first
+            polish = objective.polished()
+            coverages[part], _, more = lm_solve(polish, polish.targets(targets[part]), coverages[part], settings)
+            iterations[part] += more
         if progress is not None:
             progress(t.shape[0])
     if objective is not None:

@@ -1,0 +1,157 @@
+"""The layered preconditioner: the cell's lateral-mean contrast per z-cell, solved exactly per
+lateral harmonic (docs/wave_solver.md, "Layered preconditioner").
+
+A rough top (grains standing out of the binder into air) puts a strong, laterally uniform
+contrast into the cell: the air between the grains differs from the slab's ε_b by about −1.3
+over the top few hundred nm.  The uniform background slab sees it as scattering, and GMRES needs
+2–3× the applications of the flat layer.  Split the contrast into its lateral mean per z-cell
+and the rest, V = V̄(z) + V′; V̄ does not couple lateral harmonics, so M = I − G·V̄ is, per
+harmonic h, the (nb·nz)² matrix M_h = I − G_h·diag(v̄) of a 1-D stack — exactly the layered
+background's Dyson equation.  The preconditioner P is M_h on the harmonics that propagate in
+the slab or are weakly evanescent (|k_t| ≤ CUTOFF·k0·√|ε_b|) and the identity on the others
+(their G_h is short-ranged), and the solver iterates the left-preconditioned system
+
+    P⁻¹(I − G·V)·w = P⁻¹·w_b
+
+(the same solution w for any P).  G_h is the z-recursion operator (zkernels.apply_z) applied to the
+unit moments of every z-cell, for all kept harmonics in one call.  Where V̄ is weak (a flat
+layer: ε_b is the layer's own mean) the preconditioner gains nothing and is not used
+(`wanted`).  Stacks with TM inner interfaces (their G carries a rank-n correction) are left out.
+"""
+
+from __future__ import annotations
+
+import weakref
+from dataclasses import dataclass
+
+import numpy as np
+
+from .scratch import borrow, give_back
+from .zkernels import ZKernels, ZWork, apply_z
+
+#: harmonics with |k_t| ≤ CUTOFF·k0·√|ε_b| get the exact 1-D inverse (the rest: identity)
+CUTOFF = 1.0
+#: the preconditioner is used when the lateral-mean contrast reaches this |Δε| in some z-cell
+#: (a rough top's air: ≈ 1.1; a flat layer of 300-nm spheres at 15 %: ≤ 0.2)
+MIN_MEAN_CONTRAST = 0.5
+MODES = ("auto", "layered", "none")
+
+
+@dataclass(frozen=True, eq=False)
+class Layered:
+    """kept: indices of the kept harmonics in the flattened (nx·ny) FFT order; inverse:
+    (S, n, n) M_h⁻¹ for them, n = nb·nz, ordered (moment, z-cell); scale: 1/(nx·ny) when the
+    backend's inverse FFT does not normalise (else 1)."""
+
+    kept: np.ndarray
+    inverse: np.ndarray
+    scale: float
+
+
+def mean_contrast(op) -> np.ndarray:
+    """V̄: the lateral mean of the contrast per z-cell (nz,), 1/nm², on the host."""
+    return np.asarray(op.fft.to_host(op.contrast_zmajor.mean(axis=(1, 2))))
+
+
+def wanted(op, mode: str = "auto") -> bool:
+    """Whether `op` gets the layered preconditioner: mode 'layered' (where it applies) or 'auto'
+    (where its lateral-mean contrast is strong, MIN_MEAN_CONTRAST)."""
+    if mode not in MODES:
+        raise ValueError(f"preconditioner must be one of {MODES}, got {mode!r}")
+    if mode == "none" or op.interfaces is not None:
+        return False
+    return mode == "layered" or float(np.max(np.abs(mean_contrast(op)))) >= MIN_MEAN_CONTRAST * op.k0 ** 2
+
+
+def _subset(zk: ZKernels, kept: np.ndarray, copies: int) -> ZKernels:
+    """The z-constants of the kept harmonics, repeated `copies` times along the harmonic axis
+    (one copy per unit source)."""
+    pick = lambda a: np.tile(np.asarray(a)[..., kept], copies)
+    return ZKernels(*(pick(getattr(zk, f)) for f in ("step", "powers", "edge", "far_powers", "refl",
+                                                      "integral0", "scale", "scale_ratio", "ratio", "diag")),
+                    nz=zk.nz, nb=zk.nb)
+
+
+_PREPARED: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+
+
+def prepare_layered(op) -> Layered:
+    """M_h⁻¹ of the kept harmonics and V′ for the operator `op` (operator.LayerOperator),
+    prepared once per operator (both sides of an incidence share it)."""
+    lay = _PREPARED.get(op)
+    if lay is None:
+        lay = _PREPARED[op] = _prepare(op)
+    return lay
+
+
+def _prepare(op) -> Layered:
+    nx, ny, nz = op.shape
+    nb, size = op.nb, nx * ny
+    n = nb * nz
+    vbar = mean_contrast(op)
+    kt = np.hypot(np.asarray(op.kx), np.asarray(op.ky)).reshape(size)
+    kept = np.flatnonzero(kt <= CUTOFF * op.k0 * np.sqrt(abs(op.eps_background)))
+    count = kept.size
+    host_zk = ZKernels(*(np.asarray(op.fft.to_host(getattr(op.zk, f)), complex)
+                         for f in ("step", "powers", "edge", "far_powers", "refl", "integral0", "scale",
+                                   "scale_ratio", "ratio", "diag")), nz=nz, nb=nb)
+    unit = np.zeros((nb, nz, n, count), complex)                   # unit source j in column block j
+    unit.reshape(n, n, count)[np.arange(n), np.arange(n)] = 1.0
+    unit = unit.reshape(nb, nz, n * count)
+    work = ZWork(nz, n * count, complex)
+    try:
+        green = apply_z(_subset(host_zk, kept, n), unit, work).reshape(n, n, count)   # [i, j, h]
+    finally:
+        work.release()
+    if not op.fft.normalised:
+        green = green * size                                       # the true G (zk folds 1/N)
+    m = np.eye(n)[None] - np.moveaxis(green, 2, 0) * np.tile(vbar, nb)[None, None, :]
+    inverse = op.fft.asarray(np.linalg.inv(m), op.dtype)
+    return Layered(op.fft.asarray(kept), inverse, 1.0 if op.fft.normalised else 1.0 / size)
+
+
+def apply_inverse(lay: Layered, flat: np.ndarray) -> np.ndarray:
+    """M⁻¹ on lateral-DFT moments flat (nb, nz, nx·ny), in place (kept harmonics only)."""
+    nb, nz, size = flat.shape
+    rows = flat.reshape(nb * nz, size)
+    rows[:, lay.kept] = np.einsum("hij,jh->ih", lay.inverse, rows[:, lay.kept])
+    return flat
+
+
+def scatter(op, lay: Layered, w: np.ndarray, ws, out: np.ndarray | None = None) -> np.ndarray:
+    """K′·w = w − P⁻¹(I − GV)·w for z-major w (nb, nz, nx, ny), into out or a new array: the
+    map whose fixed-point equation w − K′w = P⁻¹b is the preconditioned system.  Per kept
+    harmonic, with g = (GVw)^ and ŵ the lateral DFT of w: ŵ + M_h⁻¹(g − ŵ); elsewhere g (P = I).
+    One more lateral DFT than an unpreconditioned application (ŵ)."""
+    if out is None:
+        out = op.fft.empty(w.shape, op.dtype)
+    nb, nz, nx, ny = w.shape
+    size = nx * ny
+    spare = borrow(w.shape, op.dtype, op.fft)
+    try:
+        np.copyto(spare, w)
+        wh = op.fft.lateral(spare).reshape(nb * nz, size)[:, lay.kept]
+    finally:
+        give_back(spare, backend=op.fft)
+    if lay.scale != 1.0:
+        wh *= lay.scale                                   # the scale of apply_z's output
+    fh = op.fft.lateral(np.multiply(op.contrast_zmajor, w, out=out))
+    flat = fh.reshape(nb, nz, size)
+    apply_z(op.zk, flat, ws.z)
+    rows = flat.reshape(nb * nz, size)
+    rows[:, lay.kept] = wh + np.einsum("hij,jh->ih", lay.inverse, rows[:, lay.kept] - wh)
+    g = op.fft.lateral(fh, inverse=True)
+    if not op.fft.same_buffer(g, out):
+        np.copyto(out, g)
+    return out
+
+
+def right_hand_side(op, lay: Layered, b: np.ndarray) -> np.ndarray:
+    """M⁻¹·b for a z-major right-hand side b (a new array)."""
+    nb, nz, nx, ny = b.shape
+    fh = op.fft.lateral(b.copy())
+    apply_inverse(lay, fh.reshape(nb, nz, nx * ny))
+    out = op.fft.lateral(fh, inverse=True)
+    if lay.scale != 1.0:
+        out *= lay.scale
+    return out

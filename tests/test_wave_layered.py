@@ -1,0 +1,58 @@
+"""The layered preconditioner (solver/wave/layered.py): a rough top's solves at ≤ 2× the
+applications of the flat twin's, to the same answer."""
+
+import numpy as np
+import pytest
+
+from solver.table.request import table_request
+from solver.table.wave_tier import GeometryUnit, cell_eps, face_eps, geometry_unit, nominal_eps
+from solver.wave import Cell, prepare, solve_prepared
+from solver.wave import layered
+
+GRID = (24, 24, 12)
+WAVELENGTH_NM = 740.0          # R15 hardly absorbs here: the slowest convergence of the rough top
+
+
+def _operator(particles, sigma_deg, polarisation="te"):
+    req = table_request("R15", particles, grid=GRID)
+    vox = geometry_unit(GeometryUnit(req, 0))
+    cell = Cell(cell_eps(req, vox, WAVELENGTH_NM), tuple(vox.period_nm), tuple(vox.z_range_nm))
+    k0 = 2 * np.pi / WAVELENGTH_NM
+    return prepare(cell, WAVELENGTH_NM, k0 * np.sin(np.radians(sigma_deg)), 0.0,
+                   eps_background=nominal_eps(req, WAVELENGTH_NM), eps_face=face_eps(req, WAVELENGTH_NM),
+                   polarisation=polarisation, workers=1)
+
+
+def _pair(op, preconditioner):
+    """Both sides of an incidence (a rough top's table solves both): results, applications."""
+    res = [solve_prepared(op, side, preconditioner=preconditioner) for side in (False, True)]
+    return res, sum(r.applications for r in res)
+
+
+@pytest.mark.parametrize("sigma_deg, polarisation", [(0.0, "te"), (45.0, "tm")])
+def test_rough_top_within_twice_the_flat_twins_applications(sigma_deg, polarisation):
+    flat_op = _operator("sphere:300", sigma_deg, polarisation)
+    rough_op = _operator("sphere:300:rough", sigma_deg, polarisation)
+    assert not layered.wanted(flat_op) and layered.wanted(rough_op)   # 'auto' picks the rough top only
+    _, flat = _pair(flat_op, "none")
+    plain_res, plain = _pair(rough_op, "none")
+    pre_res, pre = _pair(rough_op, "auto")
+    assert pre <= 2 * flat, (pre, flat)
+    assert pre < 0.75 * plain, (pre, plain)
+    # the same solution of the same equation: results within the solver's tolerance
+    for a, b in zip(plain_res, pre_res):
+        for name in ("R", "T", "R_spec", "T_coh", "absorbed"):
+            assert abs(getattr(a, name) - getattr(b, name)) < 3e-4, name
+        assert b.converged and b.residual <= 1e-3 and abs(b.energy_error) < 1e-3
+
+
+def test_preconditioner_changes_no_answer_on_a_flat_layer():
+    """Forced onto a cell where it brings nothing, the left preconditioner still solves the
+    cell's own equation (P⁻¹A w = P⁻¹b has the solution of A w = b whatever P is)."""
+    op = _operator("sphere:300", 45.0)
+    a = solve_prepared(op, tol=1e-6, preconditioner="none")
+    b = solve_prepared(op, tol=1e-6, preconditioner="layered")
+    for name in ("R", "T", "R_spec", "T_coh"):
+        assert abs(getattr(a, name) - getattr(b, name)) < 1e-5, name
+    with pytest.raises(ValueError, match="preconditioner"):
+        solve_prepared(op, preconditioner="ilu")
