@@ -295,8 +295,9 @@ def test_target_se_adds_realizations_until_met_or_capped(tmp_path, caplog):
         tight = build_table(small(target_se=1e-6, max_realizations=3), opts(tmp_path / "b"))
     assert tight.meta["realizations_used"] == 3 and tight.errors["Rbar"].shape == tight.Rbar.shape
     # the third realization's units were the only new ones: 2 λ, nothing recomputed
-    assert any("2 of 6 units to compute (4 reused)" in r.message for r in caplog.records), \
-        [r.message for r in caplog.records]
+    solves = [r.message for r in caplog.records if r.message.startswith("solve (full)")]
+    assert solves == ["solve (full): 4 of 4 units to compute (0 reused)",
+                      "solve (full): 2 of 2 units to compute (0 reused)"], solves
     same = build_table(small(realizations=3), opts(tmp_path / "c"))
     np.testing.assert_array_equal(tight.Rbar, same.Rbar)
 
@@ -336,6 +337,7 @@ def test_stacks_need_whole_cells_per_layer():
         small(ink="Y15/B15", particles="sphere:300", thickness_nm=(800.0, 1000.0), grid=(16, 16, 32))
     assert small(ink="Y15/B15", particles="sphere:300", thickness_nm=(800.0, 1000.0),
                  grid=(16, 16, 9)).wave.grid[2] == 9
-    assert table_request("Y15/B15", "sphere:300").wave.grid[2] == 64      # the preset's cell height kept
+    # the preset's cell height kept: two 1000-nm layers get twice the preset's z cells
+    assert table_request("Y15/B15", "sphere:300").wave.grid[2] == 2 * table_request("R15", "sphere:300").wave.grid[2]
     with pytest.raises(RequestError, match="rough top"):
         small(ink="Y15/B15", particles="sphere:300:rough")
