@@ -136,7 +136,7 @@ def speed(separator, quick: bool) -> None:
 
 
 def table_error(separator, quick: bool) -> None:
-    from solver.apps.separation import SeparationLUT, delta_e2000
+    from solver.apps.separation import SeparationLUT, delta_e2000, srgb8_to_lab
 
     x = np.random.default_rng(5).random((4000 if quick else 20000, 3))
     t0 = time.perf_counter()
@@ -151,8 +151,15 @@ def table_error(separator, quick: bool) -> None:
         cov = lut(x)
         t_use = time.perf_counter() - t0
         de = delta_e2000(separator.model.lab(cov), direct.printed_lab)
+        worst = np.inf
+        for a, b in RAMPS.values():                # the gradients of section 2 through the table
+            rgb = _ramp(a, b)
+            source = srgb8_to_lab(rgb)
+            dl = np.diff(separator.model.lab(lut(rgb / 255.0))[:, 0]) * np.sign(source[-1, 0] - source[0, 0])
+            worst = min(worst, dl.min())
         print(f"   {nodes:2d}³ nodes: build {t_build:6.1f} s, interpolate {t_use * 1e3:6.1f} ms; ΔE2000 median "
-              f"{np.median(de):.3f}, p95 {np.percentile(de, 95):.3f}, max {de.max():.2f}")
+              f"{np.median(de):.3f}, p95 {np.percentile(de, 95):.3f}, max {de.max():.2f}; the five ramps through it: "
+              f"smallest ΔL* step {worst:+.3f}")
 
 
 def mapping_knobs(separator) -> None:
