@@ -77,7 +77,7 @@ class Outcome:
             wrong.append(f"exit status {self.status}, expected {128 + self.signal}")
         if self.exit_s > EXIT_LIMIT_S:
             wrong.append(f"took {self.exit_s:.1f} s to exit")
-        if len(said) != 1 or "Traceback" in self.stderr or "Exception ignored" in self.stderr:
+        if wrong or len(said) != 1 or "Traceback" in self.stderr or "Exception ignored" in self.stderr:
             wrong.append("stderr: " + " | ".join(self.stderr.strip().splitlines()[-6:]))
         if self.left:
             wrong.append(f"left {self.left}")

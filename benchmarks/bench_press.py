@@ -18,7 +18,9 @@
 5. the perceptual mapping's knobs (focal point's lightness weight, knee, margin): ColorChecker
    ΔE2000 and the worst gradient's monotonicity and largest step;
 6. black generation (none, UCR, GCR 0.7, GCR 1, a 260 % TAC) on the photograph's colours: ink
-   totals, black and chromatic ink, the print's miss.
+   totals, black and chromatic ink, the print's miss;
+7. the gamut boundary's knobs (hue slices, face samples, the check against the print): build
+   time, table nodes the solver misses, ColorChecker.
 
 Timings under load are not README numbers (the lead re-measures on a quiet machine).
 """
@@ -134,7 +136,7 @@ def speed(separator, quick: bool) -> None:
 
 
 def table_error(separator, quick: bool) -> None:
-    from solver.apps.separation import SeparationLUT, delta_e2000
+    from solver.apps.separation import SeparationLUT, delta_e2000, srgb8_to_lab
 
     x = np.random.default_rng(5).random((4000 if quick else 20000, 3))
     t0 = time.perf_counter()
@@ -149,8 +151,15 @@ def table_error(separator, quick: bool) -> None:
         cov = lut(x)
         t_use = time.perf_counter() - t0
         de = delta_e2000(separator.model.lab(cov), direct.printed_lab)
+        worst = np.inf
+        for a, b in RAMPS.values():                # the gradients of section 2 through the table
+            rgb = _ramp(a, b)
+            source = srgb8_to_lab(rgb)
+            dl = np.diff(separator.model.lab(lut(rgb / 255.0))[:, 0]) * np.sign(source[-1, 0] - source[0, 0])
+            worst = min(worst, dl.min())
         print(f"   {nodes:2d}³ nodes: build {t_build:6.1f} s, interpolate {t_use * 1e3:6.1f} ms; ΔE2000 median "
-              f"{np.median(de):.3f}, p95 {np.percentile(de, 95):.3f}, max {de.max():.2f}")
+              f"{np.median(de):.3f}, p95 {np.percentile(de, 95):.3f}, max {de.max():.2f}; the five ramps through it: "
+              f"smallest ΔL* step {worst:+.3f}")
 
 
 def mapping_knobs(separator) -> None:
@@ -205,6 +214,35 @@ def black_rules(separator) -> None:
               f"CMY {chromatic.mean():5.1f}; p99 {np.percentile(sep.delta_e76, 99):.2f}; {time.perf_counter() - t0:.1f} s")
 
 
+def boundary_knobs(settings, printed) -> None:
+    """The gamut boundary's accuracy knobs (module constants of solver.apps.separation.gamut and
+    separate, set here for the study): build time, the share of 17³ table nodes the solver
+    misses by more than ΔE76 0.5 (the boundary overestimated) and the ColorChecker mean."""
+    from solver.apps.separation import SeparationLUT, delta_e2000
+    from solver.apps.separation import gamut
+    from solver.apps.separation.job import build_separator
+
+    _, ref, rgb8, _ = colorchecker_srgb8()
+    saved = (gamut.HUE_BINS, gamut.FACE_NODES, gamut.REFINE_STEP_L)
+    print("\n7. gamut boundary knobs: hue slices, face samples per axis, check step (L*; off: no check against the print) → build s, "
+          "17³ nodes missed by > 0.5 ΔE76 (max), ColorChecker mean")
+    try:
+        for hue_bins, face, step in ((180, 49, 3.0), (90, 49, 3.0), (360, 49, 3.0), (180, 33, 3.0), (180, 65, 3.0),
+                                     (180, 49, 1.5), (180, 49, 1000.0)):
+            gamut.HUE_BINS, gamut.FACE_NODES, gamut.REFINE_STEP_L = hue_bins, face, step
+            t0 = time.perf_counter()
+            s = build_separator(settings, printed)
+            dt = time.perf_counter() - t0
+            _, nodes = SeparationLUT.build(s, 17)
+            miss = nodes.delta_e76 > 0.5
+            cc, _ = s.separate_srgb(rgb8 / 255.0)
+            print(f"   {hue_bins:3d} slices, {face:2d} face nodes, check {'off' if step > 100 else f'{step:g} L*':7s}: "
+                  f"{dt:5.1f} s; missed {miss.mean():6.1%} (max {nodes.delta_e76.max():.2f}); "
+                  f"CC {delta_e2000(cc.printed_lab, ref).mean():.2f}")
+    finally:
+        gamut.HUE_BINS, gamut.FACE_NODES, gamut.REFINE_STEP_L = saved
+
+
 def main(argv=None) -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--quick", action="store_true", help="a 3-Mpixel image, fewer colours")
@@ -226,6 +264,7 @@ def main(argv=None) -> None:
     gradients(separator)
     mapping_knobs(separator)
     black_rules(separator)
+    boundary_knobs(settings, printed_inks(inks))
     table_error(separator, args.quick)
     speed(separator, args.quick)
 

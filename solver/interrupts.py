@@ -68,6 +68,7 @@ def raising():
     finally:
         for s, handler in previous.items():
             signal.signal(s, signal.SIG_DFL if handler is None else handler)   # None: set outside Python
+        _received.clear()                  # what came is this block's: a later command starts clean
 
 
 @contextlib.contextmanager

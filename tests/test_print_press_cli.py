@@ -170,3 +170,12 @@ def test_default_inks_are_the_process_set(tmp_path, capsys):
         assert f'<string name="ink{n}" value="{spec}"/><float name="thickness{n}" value="{nm}"/>' in xml
     assert f'<default name="paper" value="{process_paper_albedo():g}"/>' in xml
     assert "black: GCR" in out and f"{process_set()[0]} 45°" in out
+
+
+def test_cmyk_file_without_profile_warns(tmp_path):
+    from PIL import Image
+
+    Image.new("CMYK", (4, 3), (0, 0, 0, 0)).save(tmp_path / "c.jpg")
+    with pytest.warns(ImageWarning, match="CMYK image without a usable ICC profile"):
+        image = read_image(tmp_path / "c.jpg")
+    assert image.rgb8.shape == (3, 4, 3) and image.rgb8.min() >= 250          # no ink: white

@@ -71,3 +71,4 @@ def test_an_error_of_the_caller_stops_the_workers(pool):
     with pytest.raises(OSError, match="No space"):
         pool.run(square, range(4), done)
     assert not _alive(pool)
+

@@ -121,8 +121,8 @@ def test_a_deep_guide_never_breaks_energy():
     sw = wl[list(solved)]
     coarse = _film(truth_req, sw)
     refined = refine(coarse, guide, solved)
-    above, below = energy_excess(refined)
-    assert np.all(above <= 0) and np.all(below <= 0), (above.max(), below.max())
+    excess = energy_excess(refined)
+    assert all(np.all(e <= 0) for e in excess.values()), {k: e.max() for k, e in excess.items()}
     assert unsolved_breaking_energy(refined, solved) == []
     validate(refined)
     # the cap did work here: the plainly guided transmittance exceeds 1 − R̄ somewhere
@@ -142,3 +142,28 @@ def test_flattening_has_duysens_limits():
     assert flattening(200.0) == pytest.approx(3.0 / (2 * 200.0), rel=1e-2)
     x = np.linspace(0.01, 50.0, 200)
     assert np.all(np.diff(flattening(x)) < 0)
+
+
+def test_a_wavelength_whose_refinement_breaks_energy_is_solved(tmp_path, monkeypatch):
+    """The builder's guard: where the film-guided refinement still broke energy (here forced at
+    the one interpolated wavelength: T̄ = 1 there), that wavelength is solved by the wave
+    ensemble too, so the table is the fully solved one — never the broken numbers."""
+    from solver.table import spectral
+
+    base = dict(wavelengths_nm=(450.0, 500.0, 550.0), sigma_rad=tuple(np.radians([0.0, 40.0, 90.0])),
+                grid=(16, 16, 8), realizations=2, azimuths=2, dphi_count=7, tier="full")
+    opts = BuildOptions(progress=False, cache=TableCache(tmp_path / "cache"), workers=1)
+    full = build_table(table_request("Y7.5+B7.5", "sphere:300", wavelength_stride=1, **base), opts)
+    real = spectral.refine
+
+    def breaking(coarse, film, solved, meta=None):
+        table = real(coarse, film, solved, meta)
+        if 1 not in solved:
+            table.Tbar[1] = 1.0
+        return table
+
+    monkeypatch.setattr(spectral, "refine", breaking)
+    guarded = build_table(table_request("Y7.5+B7.5", "sphere:300", wavelength_stride=2, **base), opts)
+    assert "solved_wavelengths_nm" not in guarded.meta
+    for name in ("Rbar", "Tbar", "R"):
+        np.testing.assert_array_equal(getattr(guarded, name), getattr(full, name))

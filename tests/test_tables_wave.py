@@ -291,6 +291,7 @@ def test_target_se_adds_realizations_until_met_or_capped(tmp_path, caplog):
 
     loose = build_table(small(target_se=0.5), opts(tmp_path / "a"))
     assert loose.meta["realizations_used"] == 2 and len(loose.meta["seeds"]) == 2
+    caplog.clear()              # only the tight build's lines (an earlier test may have left INFO on)
     with caplog.at_level(logging.INFO, logger="inkbsdf.tables"):
         tight = build_table(small(target_se=1e-6, max_realizations=3), opts(tmp_path / "b"))
     assert tight.meta["realizations_used"] == 3 and tight.errors["Rbar"].shape == tight.Rbar.shape

@@ -77,7 +77,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="black start: the share of the black's range, in [0, 1), below which no black is printed")
     p.add_argument("--tac", type=float, default=100 * black.tac, help="total area coverage limit, percent (100–400)")
     p.add_argument("--black-ink", default=None,
-                   help="which ink is the black (an ink of --inks, or none); default: the K ink, else the "
+                   help="which ink is the black (an ink of --inks, or none); default: the ink whose main pigment is K, else the "
                         "darkest neutral one")
     p.add_argument("--gamut", default=MAPPINGS[0], choices=MAPPINGS,
                    help="perceptual: hue-preserving compression toward the cusp; clip: the closest printable colour")

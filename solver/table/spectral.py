@@ -125,15 +125,15 @@ def refine(coarse: InkTable, film: InkTable, solved: tuple[int, ...], meta: dict
 
 def unsolved_breaking_energy(table: InkTable, solved) -> list[int]:
     """Indices of the refined table's interpolated (unsolved) wavelengths at which it breaks
-    energy beyond the solver's closure (schema.energy_excess, from above or below): where a
+    energy beyond the solver's closure (schema.energy_excess: from above, per polarisation, from below): where a
     pigment's band is sharper than the solved wavelengths resolve, the film-guided difference
     can put R̄ + T̄ above 1 (R15 with 200-nm grains at 20-nm steps: by 0.028).  The caller solves
     them; an empty list when the refinement holds."""
     from .schema import energy_excess
 
-    above, below = energy_excess(table)
+    worst = np.max(np.stack(list(energy_excess(table).values())), axis=0)
     done = set(int(i) for i in solved)
-    return [int(i) for i in np.flatnonzero((above > 0) | (below > 0)) if int(i) not in done]
+    return [int(i) for i in np.flatnonzero(worst > 0) if int(i) not in done]
 
 
 def flattening(alpha_chord: np.ndarray) -> np.ndarray:

@@ -1,17 +1,18 @@
 """Colour separation and halftoning of images for printing with the project's inks (pure
 NumPy; Pillow for image files): docs/printing.md.
 
-    from solver.apps.separation import PrintSettings, parse_dots, print_image, printed_inks, read_srgb8
-    settings = PrintSettings(inks=("R30", "Y30", "B30"), dots=parse_dots("AM:150"))
-    result = print_image(read_srgb8("photo.png"), settings, printed_inks(settings.inks))
+    from solver.apps.separation import PrintSettings, parse_dots, parse_ink_list, print_image, printed_inks, read_image
+    settings = PrintSettings(inks=parse_ink_list("process"), dots=parse_dots("AM:150"))   # K, C, M, Y
+    result = print_image(read_image("photo.png").rgb8, settings, printed_inks(settings.inks))
     result.separation.report.lines(); result.textures          # uint8 per ink, 255 = full ink
 
-Stages, one per module: `printset` (ink specs → tables of inks and overprints, through the
+Stages, one per module: `printset` (ink lists → tables of inks and overprints, through the
 cache), `printmodel` (coverages → CIELAB under the press's measurement, 45:0 D50, with
 `solver.printing`), `gamut` (the print's gamut, perceptual gamut mapping), `black` (black
-generation, TAC), `solve` (LUT + projected Levenberg–Marquardt), `separate` (an image's
-distinct colours or a 3-D table over sRGB, report), `characterisation` (a CGATS chart), `screens` (AM and FM
-thresholds), `halftone` (texel grid, dots), `image` (files), `job` (one print's settings).
+generation, TAC), `solve` (start grid + projected Levenberg–Marquardt), `separate` (an image's
+distinct colours or a 3-D table over sRGB, report), `characterisation` (a CGATS chart),
+`screens` (AM and FM thresholds), `halftone` (texel grid, dots), `image` (files), `job` (one
+print's settings).
 """
 
 from .black import BLACK_MODES, BlackGeneration, InkingObjective, black_index

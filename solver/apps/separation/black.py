@@ -1,8 +1,8 @@
 """Black generation and the total area coverage limit (docs/printing.md, "Black generation").
 
     rule = BlackGeneration("gcr", strength=0.7, start=0.2, tac=3.0)
-    objective = InkingObjective.build(model, black=3, rule=rule, boundary=boundary)
-    separate_lab(objective, objective.targets(lab))       # colour first, then the black aim
+    objective = InkingObjective.build(model, black=0, rule=rule, boundary=boundary)
+    separate_lab(model, lab, objective=objective)         # the black aim, then the colour
 
 With a black ink, a colour has a one-parameter family of separations (three equations, four
 unknowns). The rule picks one by an *aim* for the black coverage K of each target colour:
@@ -18,11 +18,12 @@ unknowns). The rule picks one by an *aim* for the black coverage K of each targe
               near-neutral shadows only)
 
 and the separation minimises |Lab(c) − t|² + (w_K·(c_K − K_aim))² + (w_TAC·max(0, Σc − TAC))²
-twice: with w_K = `K_WEIGHT` ΔE per unit coverage (the aim chooses the black), then, from
-there, with w_K = `K_POLISH_WEIGHT` (the colour is matched: in the deep shadows the colour hardly
-depends on the inks, and the first pass would trade half a ΔE for the aim). The total area
-coverage limit is a stiff penalty, enforced exactly at the end by scaling the chromatic inks
-(`enforce_tac`). Defaults: `BlackGeneration()` — GCR, strength 0.7, start 0.2, TAC 300 %.
+with w_K = `K_WEIGHT` ΔE per unit coverage (the aim chooses the black), then, for the colours
+that pass leaves unmatched, from there with w_K = `K_POLISH_WEIGHT` (the colour is matched: in
+the deep shadows the colour hardly depends on the inks, and the first pass would trade half a
+ΔE for the aim). The solver projects its steps onto Σc ≤ TAC (`tac_limit`, `solve.project`);
+the stiff penalty makes its Jacobian see the limit, and `enforce_tac` (scaling the chromatic
+inks) guarantees it at the end. Defaults: `BlackGeneration()` — GCR, strength 0.7, start 0.2, TAC 300 %.
 """
 
 from __future__ import annotations

@@ -1,7 +1,7 @@
 """One print: an sRGB image → coverage images → coverage textures, with every choice in one
 typed object.
 
-    settings = PrintSettings(inks=("R30", "Y30", "B30"), dots=parse_dots("AM:150"))
+    settings = PrintSettings(inks=parse_ink_list("process"), dots=parse_dots("AM:150"))
     result = print_image(rgb8, settings, printed_inks(settings.inks))
     paths = write_textures(result, folder, stem="page")
 

@@ -267,11 +267,14 @@ def separate_lab(model: PrintColourModel, target_lab, settings: SolverSettings =
     for start in range(0, targets.shape[0], settings.chunk):
         part = slice(start, start + settings.chunk)
         t = wanted[part]
-        coverages[part], _, iterations[part] = multistart(solved, t, grid, settings)
+        coverages[part], lab, iterations[part] = multistart(solved, t, grid, settings)
         if objective is not None and objective.black is not None:      # polish: the colour first
-            polish = objective.polished()
-            coverages[part], _, more = lm_solve(polish, polish.targets(targets[part]), coverages[part], settings)
-            iterations[part] += more
+            miss = np.linalg.norm(lab[:, :3] - targets[part], axis=-1) > settings.tolerance_de
+            rows = np.flatnonzero(miss) + part.start
+            if rows.size:
+                polish = objective.polished()
+                coverages[rows], _, more = lm_solve(polish, polish.targets(targets[rows]), coverages[rows], settings)
+                iterations[rows] += more
         if progress is not None:
             progress(t.shape[0])
     if objective is not None:
