@@ -137,18 +137,50 @@ def test_clipping_makes_the_notch_that_mapping_avoids(ryb, ryb_separator):
 
 
 def test_mapping_keeps_hue_and_lands_inside(ryb_boundary):
-    """Hue is unchanged (away from the neutral axis); every mapped colour lies in the print's
-    gamut; neutrals map by black-point compensation alone."""
+    """The perceived (Oklab) hue is unchanged (away from the neutral axis); every mapped colour
+    lies in the print's gamut; neutrals map by black-point compensation alone."""
+    from solver.colour.hue import oklab_hue
+
     rng = np.random.default_rng(4)
     src = srgb8_to_lab(rng.integers(0, 256, (3000, 3)))
     out = map_to_gamut(src, ryb_boundary)
     assert ryb_boundary.contains(out).all()
     chroma = np.hypot(src[:, 1], src[:, 2])
-    keep = (chroma > 5) & (np.hypot(out[:, 1], out[:, 2]) > 1)
-    dh = (np.degrees(np.arctan2(out[keep, 2], out[keep, 1]) - np.arctan2(src[keep, 2], src[keep, 1])) + 180) % 360 - 180
-    assert np.abs(dh).max() < 1e-6
+    keep = (chroma > 5) & (np.hypot(out[:, 1], out[:, 2]) > 1) & (out[:, 0] > 5)
+    dh = (oklab_hue(out[keep]) - oklab_hue(src[keep]) + 180) % 360 - 180
+    assert np.abs(dh).max() < 1e-3
     grey = srgb8_to_lab(np.repeat(np.arange(0, 256, 15)[:, None], 3, 1))
     np.testing.assert_allclose(map_to_gamut(grey, ryb_boundary)[:, 0], ryb_boundary.lightness_map(grey[:, 0]), atol=2e-3)
+
+
+def test_saturated_blues_keep_their_perceived_hue(process_separator):
+    """A saturated sRGB blue sky compressed into the process gamut keeps the hue it is seen as:
+    against an independent hue-linear space (IPT, Ebner & Fairchild 1998, from colour-science)
+    the mapped colours' hue moves ≤ 3°, where keeping CIELAB's hue at the same L*, C* would move
+    it 6–27° toward violet (the proof's lavender sky)."""
+    import colour
+
+    from solver.colour.cie import lab_to_xyz, white_xyz
+
+    sep = process_separator
+    src = srgb8_to_lab(np.array([[26, 90, 242], [40, 110, 250], [0, 60, 200], [60, 140, 255], [0, 0, 255]]))
+    out = map_to_gamut(src, sep.boundary, sep.gamut, sep.model.measurement)
+    white = white_xyz("D50", "2")
+    d65 = colour.xy_to_XYZ(colour.CCS_ILLUMINANTS["CIE 1931 2 Degree Standard Observer"]["D65"])
+
+    def ipt_hue(lab):
+        xyz = colour.chromatic_adaptation(lab_to_xyz(lab, white) / white[1], white / white[1], d65,
+                                          method="Von Kries", transform="Bradford")
+        ipt = colour.XYZ_to_IPT(xyz)
+        return np.degrees(np.arctan2(ipt[..., 2], ipt[..., 1]))
+
+    h_lab = np.arctan2(src[:, 2], src[:, 1])
+    chroma = np.hypot(out[:, 1], out[:, 2])
+    cielab_kept = np.stack([out[:, 0], chroma * np.cos(h_lab), chroma * np.sin(h_lab)], -1)
+    shift = lambda lab: np.abs((ipt_hue(lab) - ipt_hue(src) + 180) % 360 - 180)      # noqa: E731
+    assert np.all(chroma < 0.7 * np.hypot(src[:, 1], src[:, 2]))       # really compressed
+    assert shift(out).max() <= 3.0, shift(out)
+    assert shift(cielab_kept).min() >= 6.0, shift(cielab_kept)
 
 
 def test_colours_well_inside_are_left_alone(ryb, ryb_boundary):
@@ -163,7 +195,8 @@ def test_colours_well_inside_are_left_alone(ryb, ryb_boundary):
     assert len(lab) >= 50
     src = lab.copy()
     src[:, 0] = ryb_boundary.lightness_unmap(lab[:, 0])                  # undo the L* compression
-    np.testing.assert_allclose(map_to_gamut(src, ryb_boundary, GamutSettings(knee=0.8)), lab, atol=1e-6)
+    # atol: the perceived hue is kept at the compensated L*, which moves a*, b* by up to ~1e-3
+    np.testing.assert_allclose(map_to_gamut(src, ryb_boundary, GamutSettings(knee=0.8)), lab, atol=5e-3)
 
 
 # ------------------------------------------------------------------ black generation and TAC

@@ -7,7 +7,8 @@ cusp of their hue (docs/printing.md, "Gamut mapping").
 **The print's gamut** (`GamutBoundary`): the printed colours of a dense sample of coverage
 space (a grid, every 2-D face of the coverage cube finer, both with nodes at (i/n)² so that
 the light tints near paper white are sampled finely; mixes over the total area coverage limit
-scaled onto it) in CIELCh under the model's measurement (45:0, D50 by default).
+scaled onto it) in CIELAB's L* and C* and Oklab's hue (the perceived hue: `to_lch`) under
+the model's measurement (45:0, D50 by default).
 Per hue slice (`HUE_BINS` slices, each gathering the samples within one slice width of its
 hue) the boundary is the convex hull of the samples in the (C*, L*) half-plane, tabulated as the
 largest chroma C_max(h, L*) on `LIGHTNESS_NODES` lightness levels, smoothed across hue (a
@@ -33,7 +34,7 @@ chroma.
    boundary (after step 1): if S ≤ D nothing moves; else colours within `knee`·D keep their
    place and beyond it d ↦ kD + (D − kD)·s·t/(1 + (s − 1)·t), t = (d − kD)/(S − kD),
    s = (S − kD)/(D − kD) — slope 1 at the knee (no kink), the sRGB boundary lands on the
-   print's boundary, monotone along the ray. Hue is untouched.
+   print's boundary, monotone along the ray. The perceived hue (Oklab's) is untouched.
 
 Every step is continuous in the colour, so smooth gradients stay smooth (no notch where
 nearest-colour clipping would fold a ramp onto the boundary) and ramps that rise in L* stay
@@ -46,6 +47,8 @@ from dataclasses import dataclass
 from itertools import combinations, product
 
 import numpy as np
+
+from solver.colour.hue import lab_hue, oklab_hue
 
 from .colour_space import lab_to_linear_srgb
 
@@ -79,13 +82,18 @@ class GamutSettings:
 
 
 def to_lch(lab) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(L*, C*, h in degrees [0, 360)) of CIELAB [..., 3]."""
+    """(L*, C*, h in degrees [0, 360)) of CIELAB [..., 3] — h the perceived hue (Oklab's,
+    `solver.colour.hue`): the mapping's hue slices are slices of constant perceived hue, so a
+    colour compressed toward the neutral axis keeps the hue it is seen as (in CIELAB's own hue a
+    saturated blue halved in chroma turns violet)."""
     lab = np.asarray(lab, dtype=np.float64)
-    return lab[..., 0], np.hypot(lab[..., 1], lab[..., 2]), np.degrees(np.arctan2(lab[..., 2], lab[..., 1])) % 360.0
+    return lab[..., 0], np.hypot(lab[..., 1], lab[..., 2]), oklab_hue(lab)
 
 
-def from_lch(L, C, h_deg) -> np.ndarray:
-    h = np.radians(h_deg)
+def from_lch(L, C, h_deg, exact: bool = True) -> np.ndarray:
+    """CIELAB of lightness L*, chroma C* and perceived hue h (the inverse of `to_lch`; exact=False:
+    the hue table alone, ≈ 0.05°, for searches along a ray)."""
+    h = np.radians(lab_hue(L, C, h_deg, exact))
     return np.stack([L, C * np.cos(h), C * np.sin(h)], axis=-1)
 
 
@@ -322,7 +330,7 @@ def map_to_gamut(lab, boundary: GamutBoundary, settings: GamutSettings = GamutSe
         return s * uc
 
     def in_srgb(s):
-        lab_s = from_lch(boundary.lightness_unmap(F + s * ul), C_at(s), h)
+        lab_s = from_lch(boundary.lightness_unmap(F + s * ul), C_at(s), h, exact=False)
         rgb = lab_to_linear_srgb(lab_s, measurement)
         return np.all((rgb >= -1e-6) & (rgb <= 1.0 + 1e-6), axis=-1)
 
