@@ -66,6 +66,18 @@ def test_an_aim_out_of_reach_names_the_bound():
     assert result.at_bounds == ["load Y = 0 % (lower bound)"]
 
 
+def test_an_aim_best_met_by_bare_paper_is_found_at_the_bound():
+    """50/100/100 with the cyan pigment only: every cyan load moves away from it, so the best
+    recipe is bare paper (load 0), whose colour is computed here directly; an interior local
+    minimum (ΔE2000 52.3 at the upper bound, as a grid inside the box found) must not win."""
+    colour = FilmColour(paper=0.88)
+    aim = parse_aim("50,100,100")[0]
+    result = design_ink(aim, InkTemplate(("C",)), colour)
+    paper_only = colour.lab(Recipe((("C", 0.0),), 1000.0))
+    assert result.de2000 <= float(delta_e2000(paper_only, np.asarray(aim.lab))) + 1e-6
+    assert result.at_bounds[0].startswith("load C = 0 %")
+
+
 def test_the_paper_white_matches_l_star_analytically():
     """A flat albedo r is neutral with Y = r: the best one for 95/0/−2 has L* = 95 exactly."""
     aim = AIMS["iso12647-2:PC1:paper"]

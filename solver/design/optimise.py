@@ -110,7 +110,10 @@ def minimise_de(colour_of, aim_lab, bounds: np.ndarray, feasible=lambda x: True,
     def objective(u):
         return de(u) ** 2
 
-    grid = np.linspace(0.05, 0.95, int(np.clip(np.floor(GRID_SIZE ** (1.0 / len(lo)) + 1e-9), 3, 9)))
+    # the grid spans the box's faces too: an aim out of reach is often best met at a bound
+    # (bare paper at load 0 for an aim no amount of this pigment nears)
+    inner = np.linspace(0.05, 0.95, int(np.clip(np.floor(GRID_SIZE ** (1.0 / len(lo)) + 1e-9), 3, 9)))
+    grid = np.concatenate([[0.0], inner, [1.0]])
     if start is None:
         starts = sorted(((de(np.array(u)), np.array(u)) for u in itertools.product(grid, repeat=len(lo))),
                         key=lambda t: t[0])[:STARTS]
