@@ -36,6 +36,10 @@ def test_build_and_show(tmp_path, capsys):
 
 @pytest.mark.parametrize("args, words", [
     (["build", "--ink", "Q5", "-o", "x.npz"], "unknown pigment 'Q'"),
+    (["build", "--ink", "R-5", "-o", "x.npz"], "--ink 'R-5': negative concentration"),
+    (["build", "--ink", "R15//Y15", "-o", "x.npz"], "--ink 'R15//Y15': empty ink spec"),
+    (["build", "--ink", "R15", "--particles", "sphere:abc", "-o", "x.npz"], "--particles 'sphere:abc': bad diameter"),
+    (["geometry", "--ink", "R-5", "--particles", "sphere:100"], "--ink 'R-5': negative concentration"),
     (["build", "--ink", "R5", "--thickness", "0", "-o", "x.npz"], "thickness"),
     (["build", "--ink", "R70+Y40", "-o", "x.npz"], "exceeds 100%"),
     (["show", "missing.npz"], "not found"),

@@ -94,9 +94,9 @@ def test_the_papers_model_one_option_away(tmp_path):
 
 
 @pytest.mark.parametrize("argv, message", [
-    (["--geometry", "45/0"], "geometry '45/0': choose one of 45:0, d:8:sci, d:8:sce, d:0, paper"),
-    (["--illuminant", "F2"], "illuminant 'F2': choose one of D50, D65"),
-    (["--observer", "4"], "observer '4': choose one of 2°, 10°"),
+    (["--geometry", "45/0"], "--geometry: geometry '45/0': choose one of 45:0, d:8:sci, d:8:sce, d:0, paper"),
+    (["--illuminant", "F2"], "--illuminant: illuminant 'F2': choose one of D50, D65"),
+    (["--observer", "4"], "--observer: observer '4': choose one of 2°, 10°"),
     (["--wavelengths", "450:650:100"], "wavelengths 450–650 nm; a colour needs at least 400–700 nm"),
 ])
 def test_measurement_refused_before_any_work(tmp_path, capsys, argv, message):

@@ -34,7 +34,7 @@ from ..materials import MaterialData, default_materials
 from .fingerprint import code_fingerprint
 # the names and limits requests are checked against, re-exported: callers find them here
 from .options import OPTION, WAVE_OPTIONS
-from .request_checks import (MAX_ANGLES, TIERS, RequestError, ignored_on_molecular,  # noqa: F401
+from .request_checks import (MAX_ANGLES, TIERS, RequestError, ignored_on_molecular, parsed_option,  # noqa: F401
                              thin_layers_warning, validate)
 from .schema import POLARISATIONS  # noqa: F401
 
@@ -331,7 +331,7 @@ def default_grids(accuracy: str, molecular: bool) -> tuple[tuple[float, ...], tu
 def _layers(ink, particles, thickness_nm) -> tuple[Layer, ...]:
     if isinstance(ink, (tuple, list)) and ink and all(isinstance(x, Layer) for x in ink):
         return tuple(ink)
-    inks = [parse_ink(x) for x in (ink.split(LAYER_SEPARATOR) if isinstance(ink, str) else [ink])]
+    inks = [parsed_option("ink", ink, parse_ink, x) for x in (ink.split(LAYER_SEPARATOR) if isinstance(ink, str) else [ink])]
     if isinstance(particles, str):
         parts = particles.split(LAYER_SEPARATOR)
     else:
@@ -341,7 +341,8 @@ def _layers(ink, particles, thickness_nm) -> tuple[Layer, ...]:
     if len(parts) != len(inks):
         raise RequestError(f"--particles {particles!r} names {len(parts)} layers, the ink {ink!r} has {len(inks)}")
     specs = [None if p is None or (isinstance(p, str) and p.strip().lower() in MOLECULAR_WORDS)
-             else p if isinstance(p, ParticleSpec) else parse_particles(p) for p in parts]
+             else p if isinstance(p, ParticleSpec) else parsed_option("particles", particles, parse_particles, p)
+             for p in parts]
     thick = thickness_nm if isinstance(thickness_nm, (tuple, list)) else [thickness_nm] * len(inks)
     if len(thick) != len(inks):
         raise RequestError(f"--thickness gives {len(thick)} values for {len(inks)} layers")

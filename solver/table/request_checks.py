@@ -21,6 +21,15 @@ class RequestError(ValueError):
     """A table request that cannot be computed as asked; the message names the option."""
 
 
+def parsed_option(name: str, given, parse, part=None):
+    """parse(part) (part: `given` itself by default) for the request option `name`, a grammar
+    error told with the option and what was given (`--ink 'R-5': negative concentration …`)."""
+    try:
+        return parse(given if part is None else part)
+    except ValueError as exc:
+        raise RequestError(f"{OPTION[name]} {given!r}: {exc}") from None
+
+
 #: most incidence angles a table may have: 0.02° steps, far finer than any film or grain feature
 #: the linear interpolation in σ needs (a molecular table at 4096 angles is ~16 MB)
 MAX_ANGLES = 4096

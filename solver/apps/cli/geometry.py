@@ -92,8 +92,10 @@ def run(args) -> int:
     if "/" in args.ink:
         raise ValueError(f"--ink {args.ink}: geometry draws one layer; give one ink of the stack, e.g. "
                          f"--ink {args.ink.split('/')[0]}")
-    ink = parse_ink(args.ink)
-    particles = parse_particles(args.particles)
+    from solver.table.request_checks import parsed_option
+
+    ink = parsed_option("ink", args.ink, parse_ink)
+    particles = parsed_option("particles", args.particles, parse_particles)
     if particles is None:
         raise ValueError(f"--particles {args.particles}: a molecular ink is one homogeneous layer, with no "
                          "particle geometry to generate; give grains, e.g. sphere:100")

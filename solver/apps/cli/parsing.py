@@ -236,6 +236,15 @@ def add_measurement_arguments(parser, geometry_default: str | None = None) -> No
 
 def measurement_from_args(args, geometry_default: str):
     """The Measurement the options name (each name checked: one line listing the valid ones)."""
-    from solver.colour.measurement import parse_measurement
+    from solver.colour.cie import check_illuminant, check_observer
+    from solver.colour.measurement import Measurement, parse_geometry
 
-    return parse_measurement(args.geometry or geometry_default, args.illuminant, args.observer)
+    parts = []
+    for option, check, value in (("--geometry", parse_geometry, args.geometry or geometry_default),
+                                 ("--illuminant", check_illuminant, args.illuminant),
+                                 ("--observer", check_observer, args.observer)):
+        try:
+            parts.append(check(value))
+        except ValueError as exc:                     # the option named before the choices
+            raise ValueError(f"{option}: {exc}") from None
+    return Measurement(*parts)
