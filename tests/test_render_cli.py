@@ -81,6 +81,10 @@ def test_scene_without_parameters_renders_and_says_what_it_ignored(tmp_path, ink
     from inkbsdf.apps.imageio import read_exr
 
     assert read_exr(exr).shape == (12, 16, 3)          # the scene's own film, not --width
+    png = tmp_path / "only.png"                        # a PNG alone: no EXR asked, none written
+    assert main([str(scene), "--spp", "2", "--png", str(png)]) == 0 and png.stat().st_size > 50
+    assert sorted(p.name for p in tmp_path.glob("*.exr")) == ["bare.exr"]
+    capsys.readouterr()
     scene.write_text(scene.read_text().replace('<integrator type="path"/>', ""))
     assert main([str(scene), "--spp", "2", "-o", str(exr)]) == 2   # no integrator: one line, no traceback
     assert "No integrator" in capsys.readouterr().err
@@ -145,6 +149,7 @@ def _bad_cases(tmp, tables, unwritable):
         "too many samples at the scene's spp": ([scene, "--tables", str(tmp / "no tables"), "-o", exr,
                                                  "--width", "9000", "--height", "9000"], "2^32"),
         "png not png": (base + ["--png", str(tmp / "x.jpg")], "--png"),
+        "no output": ([scene, "--tables", str(tables)], "give -o OUT.exr"),
         "output in a file": ([scene, "-o", str(tables / "R30.npz" / "x.exr")], "not a folder"),
         "output read-only": ([scene, "-o", str(unwritable / "x.exr")], "cannot write in"),
         "png read-only": (base + ["--png", str(unwritable / "x.png")], "--png"),

@@ -186,8 +186,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--tables", default=None, help="folder of ink tables, passed as $tables")
     p.add_argument("--spp", type=_positive_int, default=None,
                    help="samples per pixel (default: the scene's own, e.g. its <default name=\"spp\">)")
-    p.add_argument("-o", "--output", required=True, help="EXR file (linear RGB)")
-    p.add_argument("--png", default=None, help="also write an sRGB PNG here")
+    p.add_argument("-o", "--output", default=None, help="EXR file (linear RGB); at least one of -o and --png")
+    p.add_argument("--png", default=None, help="an sRGB PNG (with -o: also)")
     p.add_argument("--width", type=_positive_int, default=None, help="image width (scene default if unset)")
     p.add_argument("--height", type=_positive_int, default=None, help="image height (scene default if unset)")
     p.add_argument("--exposure", type=_finite_float, default=0.0, help="PNG exposure, stops")
@@ -209,9 +209,11 @@ def _main(argv) -> int:
     from inkbsdf.variant import VariantError, select_variant
 
     args = build_parser().parse_args(argv)
-    outputs = [writable_output(args.output, ".exr", "-o/--output")]
-    if args.png:
-        outputs.append(writable_output(args.png, ".png", "--png"))
+    if not (args.output or args.png):
+        raise UsageError("give -o OUT.exr (linear), --png OUT.png (sRGB), or both")
+    exr = writable_output(args.output, ".exr", "-o/--output") if args.output else None
+    png = writable_output(args.png, ".png", "--png") if args.png else None
+    outputs = [p for p in (exr, png) if p is not None]
     if len(set(p.absolute() for p in outputs)) < len(outputs):
         raise UsageError("-o/--output and --png name the same file")
     if not Path(args.scene).is_file():
@@ -245,9 +247,10 @@ def _main(argv) -> int:
           + f", {variant}: rendering…", flush=True)
     image, render_s = render_loaded(scene, args.spp, args.seed)
     try:
-        write_exr(outputs[0], image)
-        if args.png:
-            write_png(outputs[1], image, args.exposure)
+        if exr:
+            write_exr(exr, image)
+        if png:
+            write_png(png, image, args.exposure)
     except OSError as exc:
         raise UsageError(f"cannot write {exc.filename or outputs[0]}: {exc.strerror or exc}") from None
     print(f"render {render_s:.1f} s (scene load {load_s:.1f} s) → " + ", ".join(map(str, outputs)))
