@@ -171,6 +171,10 @@ def _define_class():
     class InkBSDF(mi.BSDF):
         def __init__(self, props):
             mi.BSDF.__init__(self, props)
+            # what traverse/to_string read, set before anything that can refuse the parameters: a
+            # half-made object (a refused scene) may still be traversed or printed by Mitsuba
+            self.paper, self.coverage_names, self.coverages, self.inks, self.primaries = None, [], [], [], ()
+            self.coverage_model = DEFAULT_COVERAGE_MODEL
             try:
                 self.coverage_model = check_coverage_model(
                     str(props.get("coverage_model", DEFAULT_COVERAGE_MODEL)))
@@ -359,7 +363,8 @@ def _define_class():
             return dr.select(ok, value, 0.0), dr.select(ok, pdf, 0.0)
 
         def traverse(self, callback):
-            callback.put("paper", self.paper, mi.ParamFlags.Differentiable)
+            if self.paper is not None:
+                callback.put("paper", self.paper, mi.ParamFlags.Differentiable)
             for name, texture in zip(self.coverage_names, self.coverages):
                 callback.put(name, texture, mi.ParamFlags.Differentiable)
 
