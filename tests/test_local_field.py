@@ -73,7 +73,7 @@ def test_dissolved_mixes_are_one_material_grains_of_a_mix_are_not():
     """A molecular G30 and Y15+B15 share one key, so they must be one material with the local
     field too (each base pigment's molecules in their own cavity); a G grain polarises as one
     body of the Y–B mix, unlike separate Y and B grains."""
-    from solver.inks import molecular_eps, parse_ink
+    from solver.inks import molecular_eps
 
     wl = np.linspace(400.0, 700.0, 7)
     g, yb = table_request("G30"), table_request("Y15+B15")
