@@ -69,7 +69,7 @@ def colour_of(cache: TableCache, record, measurement) -> np.ndarray:
 
 def model_difference(runs: dict, cache: TableCache, out: Path, accuracy: str) -> list[str]:
     """ΔE2000 per Fig. 7 cell between the models (own colours; tables alone at 45:0/D50)."""
-    if "fig7" not in runs["paper"] or "fig7" not in runs["default"]:
+    if "fig7" not in runs.get("paper", {}) or "fig7" not in runs.get("default", {}):   # one model run
         return []
     paper = {(r.ink, r.column): r for r in runs["paper"]["fig7"][0] if r.ok}
     default = {(r.ink, r.column): r for r in runs["default"]["fig7"][0] if r.ok}
