@@ -38,7 +38,8 @@ def _to_d65() -> tuple[np.ndarray, np.ndarray]:
     return d50, bradford(d50, SRGB_WHITE).T
 
 
-def _lab_of_lch(L, C, h_deg) -> np.ndarray:
+def lab_from_lch(L, C, h_deg) -> np.ndarray:
+    """CIELAB [..., 3] of L*, C* and the CIELAB hue h (degrees), broadcast together."""
     h = np.radians(h_deg)
     return np.stack(np.broadcast_arrays(L, C * np.cos(h), C * np.sin(h)), axis=-1)
 
@@ -67,7 +68,7 @@ def _offset_table() -> np.ndarray:
     """[L, C, H]: CIELAB hue − Oklab hue (wrapped) at the Oklab hue nodes, per (L*, C*) node."""
     fine = np.linspace(0.0, 360.0, 1441)[:-1]
     Lg, Cg, hg = np.meshgrid(_TABLE_L, np.maximum(_TABLE_C, 1e-3), fine, indexing="ij")
-    ok = np.unwrap(np.radians(oklab_hue(_lab_of_lch(Lg, Cg, hg))), axis=-1)
+    ok = np.unwrap(np.radians(oklab_hue(lab_from_lch(Lg, Cg, hg))), axis=-1)
     ok = np.degrees(ok - 2 * np.pi * np.floor(ok[..., :1] / (2 * np.pi)))   # start in [0, 360)
     table = np.empty(Lg.shape[:2] + (_TABLE_H.size,))
     for i in range(Lg.shape[0]):
@@ -100,10 +101,10 @@ def lab_hue(L, C, h_ok, exact: bool = True) -> np.ndarray:
         return h
     C_safe = np.maximum(np.asarray(C, float), 1e-6)
     for _ in range(NEWTON_STEPS):
-        f = _wrap(oklab_hue(_lab_of_lch(L, C_safe, h)) - h_ok)
-        df = _wrap(oklab_hue(_lab_of_lch(L, C_safe, h + 1e-3)) - oklab_hue(_lab_of_lch(L, C_safe, h))) / 1e-3
+        f = _wrap(oklab_hue(lab_from_lch(L, C_safe, h)) - h_ok)
+        df = _wrap(oklab_hue(lab_from_lch(L, C_safe, h + 1e-3)) - oklab_hue(lab_from_lch(L, C_safe, h))) / 1e-3
         h = (h - f / np.where(np.abs(df) > 1e-6, df, 1.0)) % 360.0
     return h
 
 
-__all__ = ["oklab_hue", "lab_hue"]
+__all__ = ["oklab_hue", "lab_hue", "lab_from_lch"]

@@ -48,7 +48,7 @@ from itertools import combinations, product
 
 import numpy as np
 
-from solver.colour.hue import lab_hue, oklab_hue
+from solver.colour.hue import lab_from_lch, lab_hue, oklab_hue
 
 from .colour_space import lab_to_linear_srgb
 
@@ -93,8 +93,7 @@ def to_lch(lab) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 def from_lch(L, C, h_deg, exact: bool = True) -> np.ndarray:
     """CIELAB of lightness L*, chroma C* and perceived hue h (the inverse of `to_lch`; exact=False:
     the hue table alone, ≈ 0.05°, for searches along a ray)."""
-    h = np.radians(lab_hue(L, C, h_deg, exact))
-    return np.stack([L, C * np.cos(h), C * np.sin(h)], axis=-1)
+    return lab_from_lch(L, C, lab_hue(L, C, h_deg, exact))
 
 
 def _smooth_hue(table: np.ndarray, sigma_bins: float) -> np.ndarray:
