@@ -140,10 +140,18 @@ PRESET_CELLS = (("R30", "sphere:100"), ("Y7.5+B7.5", "sphere:300"), ("B30", "cyl
 #: `presets-quick`: the two cells whose fine tables take about a minute (no 300-nm spheres)
 QUICK_PRESET_CELLS = (PRESET_CELLS[0], PRESET_CELLS[2])
 
+#: `presets-span`: seven cells across Fig. 7's columns (grain sizes 30–300 nm, balls,
+#: agglutinated balls, in-plane and vertical cylinders) and its three concentrations — the
+#: issue's "≥ 6 cells spanning the columns"; the fine tables take ~25 min on 2 quiet cores
+SPAN_PRESET_CELLS = (("R50", "sphere:30"), ("R30", "sphere:100"), ("R30", "sphere:100:agglutinated"),
+                     ("R15", "sphere:200"), ("R15", "sphere:300"), ("R30", "cylinder:200:inplane"),
+                     ("R50", "cylinder:100:vertical"))
+
 
 def preset_errors(cells=PRESET_CELLS) -> None:
-    """Each accuracy preset's colour against `fine` (ΔE2000 of the CSV's colour: D65, paper 0.9,
-    diffuse light, 0° view) and its build time, on PRESET_CELLS (or `cells`)."""
+    """Each accuracy preset's colour against `fine` (ΔE2000 of the figure's colour: the default
+    measurement, 45:0/D50/2°, paper albedo) and its build time, on PRESET_CELLS (or `cells`);
+    the median and the largest error of each preset over the cells at the end."""
     from solver.colour.cie import delta_e2000
     from solver.table.builder import get_or_build
 
@@ -151,6 +159,7 @@ def preset_errors(cells=PRESET_CELLS) -> None:
           "2 workers; cached tables are reused and their time read from the table)")
     cache = TableCache(OUT / "presets_cache")
     print(f"   {'cell':32s} " + "  ".join(f"{a:>22s}" for a in ACCURACY) + "   fine SE (L*, a*, b*)")
+    errors = {a: [] for a in ACCURACY}
     for ink, particles in cells:
         colours, times = {}, {}
         for accuracy in reversed(ACCURACY):
@@ -161,9 +170,13 @@ def preset_errors(cells=PRESET_CELLS) -> None:
                                else sum(table.meta.get("timings_s", {}).values()))
             colours[accuracy] = table_colour(table, PAPER_ALBEDO)
         fine = colours["fine"]
+        for a in ACCURACY:
+            errors[a].append(float(delta_e2000(colours[a].lab, fine.lab)))
         cells = [f"ΔE {float(delta_e2000(colours[a].lab, fine.lab)):5.2f}, {times[a]:6.0f} s" for a in ACCURACY]
         print(f"   {ink + ' ' + particles:32s} " + "  ".join(f"{c:>22s}" for c in cells)
               + "   " + " ".join(f"{v:.2f}" for v in fine.se), flush=True)
+    print(f"   {'median / max ΔE2000 vs fine':32s} "
+          + "  ".join(f"{np.median(errors[a]):>14.2f} / {max(errors[a]):5.2f}" for a in ACCURACY))
 
 
 def fig7_preview() -> None:
@@ -281,8 +294,9 @@ def main(argv=None) -> int:
                 "presets": preset_errors, "fig7": fig7_preview, "steps": map_steps,
                 "compare": preview_vs_default, "sample": fig7_sample,
                 "sample-quick": lambda: fig7_sample(quick=True),
-                "presets-quick": lambda: preset_errors(QUICK_PRESET_CELLS)}
-    for name in (argv or [n for n in sections if not n.startswith("sample") and not n.endswith("-quick")]):
+                "presets-quick": lambda: preset_errors(QUICK_PRESET_CELLS),
+                "presets-span": lambda: preset_errors(SPAN_PRESET_CELLS)}
+    for name in (argv or [n for n in sections if not n.startswith("sample") and not n.startswith("presets-")]):
         sections[name]()
     return 0
 
