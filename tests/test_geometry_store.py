@@ -62,3 +62,13 @@ def test_second_ink_on_the_same_grains_draws_no_geometry(tmp_path, caplog):
     for name in COLUMNS:
         np.testing.assert_array_equal(getattr(shared, name), getattr(alone, name))
     assert len(list((tmp_path / "shared" / "geometry").glob("*.npz"))) == 2
+
+
+def test_an_effective_medium_table_draws_only_the_probe_realization(tmp_path, caplog):
+    """Tier auto solves realization 0 to choose; a film (effective medium) needs no other."""
+    req = small("R15", "sphere:30", tier="auto", realizations=4, grid=(24, 24, 12))
+    with caplog.at_level(logging.INFO, logger="inkbsdf.tables"):
+        table = build_table(req, BuildOptions(progress=False, cache=TableCache(tmp_path / "c"), workers=1))
+    assert table.meta["tier"] == "effective-medium", table.meta["tier"]
+    assert "geometry: 1 of 1 units to compute" in caplog.text
+    assert len(list((tmp_path / "c" / "geometry").glob("*.npz"))) == 1
