@@ -8,7 +8,7 @@ import pytest
 
 from solver.apps.separation import (BlackGeneration, GamutBoundary, GamutSettings, PrintColourModel, SeparationLUT,
                                    Separator, delta_e2000, map_to_gamut, printed_inks, separate_lab, srgb8_to_lab)
-from solver.apps.separation.black import InkingObjective, black_index, find_black
+from solver.apps.separation.black import BlackGenerationError, InkingObjective, black_index, find_black
 from solver.colour.measurement import DEFAULT, parse_measurement
 
 RYB = ("R30", "Y30", "B30")
@@ -239,9 +239,14 @@ def test_black_aim_rules():
     assert np.all(rule.aim(kn, np.full_like(kn, 0.5)) <= aim)
     ucr = BlackGeneration("ucr", strength=0.8, start=0.25)
     assert ucr.aim(np.array([0.9]), np.array([0.7]))[0] < rule.aim(np.array([0.9]), np.array([0.7]))[0]
-    for bad in (dict(mode="max"), dict(strength=1.5), dict(start=1.0), dict(tac=4.5)):
-        with pytest.raises(ValueError):
+    for bad in (dict(mode="max"), dict(strength=1.5), dict(strength=-0.1), dict(start=1.0), dict(tac=4.5),
+                dict(tac=0.5)):
+        with pytest.raises(BlackGenerationError) as info:        # a ValueError naming the field
             BlackGeneration(**bad)
+        assert isinstance(info.value, ValueError) and info.value.field == next(iter(bad))
+        assert info.value.value == next(iter(bad.values()))
+    for edge in (dict(strength=0.0), dict(strength=1.0), dict(start=0.0), dict(tac=1.0), dict(tac=4.0)):
+        BlackGeneration(**edge)                                   # the ranges' closed ends
 
 
 def test_objective_k_neutral_inverts_the_black_ramp(rybk):
