@@ -62,6 +62,7 @@ BISECTIONS = 20
 HUE_SMOOTHING_BINS = 1.5       # σ of the hue smoothing of C_max (slices); the cusp's L* twice that
 REFINE_STEP_L = 3.0             # L* step of the boundary's check against the print (`refined`)
 NEUTRAL_CHROMA = 3.0            # C* below which a sample counts as neutral (the print's black)
+MAX_TRIANGLE_HUE_SPAN = 30.0    # degrees: a face's triangle spanning more straddles the neutral axis
 SECTION_MIN_CHROMA = 0.5        # C* above which a face's hue counts as defined (its slice sections)
 
 
@@ -144,21 +145,19 @@ def face_grids(n_inks: int, tac: float) -> np.ndarray:
 
 
 def coverage_samples(n_inks: int, tac: float) -> np.ndarray:
-    """Coverage mixes [M, k] that sample the print's gamut and its boundary (module docstring):
-    a grid (mixes over `tac` scaled onto it) and the nodes of `face_grids`."""
+    """Coverage mixes [M, k] on a grid that samples the print's gamut (module docstring; mixes
+    over `tac` scaled onto it); `face_grids` samples its boundary."""
     n = GRID_NODES.get(n_inks, 9)
     axis = _dense_ends(n)
     c = np.stack(np.meshgrid(*([axis] * n_inks), indexing="ij"), -1).reshape(-1, n_inks)
     total = c.sum(axis=-1, keepdims=True)
-    c = np.where(total > tac, c * (tac / np.maximum(total, 1e-12)), c)
-    faces = face_grids(n_inks, tac).reshape(-1, n_inks)
-    return np.concatenate([c, faces[~np.isnan(faces[:, 0])]])
+    return np.where(total > tac, c * (tac / np.maximum(total, 1e-12)), c)
 
 
 def _face_triangles(L, C, h) -> np.ndarray:
     """The faces' grids [F, n, n] of (L*, C*, hue) cut into triangles: ([T, 3 vertices, (L, C, h)],
     the least hue [T], the hue span [T]), those with a defined hue (every vertex C* >
-    `SECTION_MIN_CHROMA`) spanning < 30° of hue, the hues unwrapped about the first vertex."""
+    `SECTION_MIN_CHROMA`) spanning < `MAX_TRIANGLE_HUE_SPAN` of hue, the hues unwrapped about the first vertex."""
     g = np.stack([L, C, h], -1)
     a, b, c, d = g[:, :-1, :-1], g[:, 1:, :-1], g[:, 1:, 1:], g[:, :-1, 1:]
     t = np.concatenate([np.stack([a, b, c], -2).reshape(-1, 3, 3), np.stack([a, c, d], -2).reshape(-1, 3, 3)])
@@ -166,8 +165,10 @@ def _face_triangles(L, C, h) -> np.ndarray:
     t[:, 1:, 2] = t[:, :1, 2] + (t[:, 1:, 2] - t[:, :1, 2] + 180.0) % 360.0 - 180.0
     h = np.ascontiguousarray(t[:, :, 2])
     span = h.max(axis=1) - h.min(axis=1)
-    keep = (span < 30.0) & (span > 0.0)
-    return t[keep], h.min(axis=1)[keep], span[keep]
+    keep = (span < MAX_TRIANGLE_HUE_SPAN) & (span > 0.0)
+    t, h_lo, span = t[keep], h.min(axis=1)[keep] % 360.0, span[keep]
+    order = np.argsort(h_lo)                                    # by least hue: a slice's candidates
+    return t[order], h_lo[order], span[order]                   # are one window (`_section_chroma`)
 
 
 def _section_chroma(tris, hue: float, levels: np.ndarray) -> np.ndarray:
@@ -177,7 +178,12 @@ def _section_chroma(tris, hue: float, levels: np.ndarray) -> np.ndarray:
     equals `hue` (the exact section of the piecewise-linear faces, concave where the gamut is);
     −1 where no segment reaches a level."""
     tris, h_lo, span = tris
-    t = tris[(hue - h_lo) % 360.0 <= span]
+    hue = hue % 360.0
+    a, b = np.searchsorted(h_lo, [hue - MAX_TRIANGLE_HUE_SPAN, hue], side="right")
+    cand = np.arange(a, b)
+    if hue < MAX_TRIANGLE_HUE_SPAN:                                  # the window wraps around 0°
+        cand = np.r_[cand, np.arange(np.searchsorted(h_lo, hue - MAX_TRIANGLE_HUE_SPAN + 360.0), h_lo.size)]
+    t = tris[cand[(hue - h_lo[cand]) % 360.0 <= span[cand]]]
     hv = (t[:, :1, 2] - hue + 180.0) % 360.0 - 180.0 + (t[:, :, 2] - t[:, :1, 2])    # hue − slice, unwrapped
     out = np.full(levels.size, -1.0)
     if t.shape[0] == 0:
@@ -241,16 +247,15 @@ class GamutBoundary:
     def build(cls, model, tac: float = float("inf")) -> "GamutBoundary":
         """The gamut of `model` (PrintColourModel) under the total area coverage limit `tac`
         (fraction: 3.0 = 300 %)."""
-        c = coverage_samples(model.n_inks, tac)
-        L, C, h = to_lch(model.lab(c))
         faces = face_grids(model.n_inks, tac)
-        lab = np.full(faces.shape[:-1] + (3,), np.nan)
         ok = ~np.isnan(faces[..., 0])
+        lab = np.full(faces.shape[:-1] + (3,), np.nan)
         lab[ok] = model.lab(faces[ok])
-        hf = np.full(ok.shape, np.nan)
-        hf[ok] = to_lch(lab[ok])[2]
-        return cls.from_samples(L, C, h, float(model.lab(np.zeros(model.n_inks))[0]),
-                                faces=(lab[..., 0], np.hypot(lab[..., 1], lab[..., 2]), hf))
+        Lf, Cf, hf = (np.full(ok.shape, np.nan) for _ in range(3))
+        Lf[ok], Cf[ok], hf[ok] = to_lch(lab[ok])
+        L, C, h = to_lch(model.lab(coverage_samples(model.n_inks, tac)))
+        L, C, h = np.r_[L, Lf[ok]], np.r_[C, Cf[ok]], np.r_[h, hf[ok]]
+        return cls.from_samples(L, C, h, float(model.lab(np.zeros(model.n_inks))[0]), faces=(Lf, Cf, hf))
 
     @classmethod
     def from_samples(cls, L, C, h, white_l: float, faces=None) -> "GamutBoundary":
