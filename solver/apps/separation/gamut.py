@@ -10,15 +10,21 @@ the light tints near paper white are sampled finely; mixes over the total area c
 scaled onto it) in CIELAB's L* and C* and Oklab's hue (the perceived hue: `to_lch`) under
 the model's measurement (45:0, D50 by default).
 Per hue slice (`HUE_BINS` slices, each gathering the samples within one slice width of its
-hue) the boundary is the convex hull of the samples in the (C*, L*) half-plane, tabulated as the
-largest chroma C_max(h, L*) on `LIGHTNESS_NODES` lightness levels, smoothed across hue (a
-Gaussian of `HUE_SMOOTHING_BINS` slices: the hulls follow the samples' scatter) and
-interpolated bilinearly (periodic in hue). Convex slices give every ray from the neutral axis one exit, so the mapping
-below is continuous; where the true gamut is concave the hull overestimates it slightly and the
-separation would take the closest printable colour there; `refined` checks the boundary against
-the print (targets on it separated, C_max scaled by the chroma reached) so that few mapped
-colours are missed (the report counts them). The cusp of a hue is the (L*, C*) of its largest
-chroma.
+hue) the boundary is the convex hull of the samples in the (C*, L*) half-plane, bounded by the
+slice's exact section of the gamut's surface: the images of the coverage polytope's 2-D faces
+(`face_grids`: the cube's, and those on the TAC limit) sampled on grids, cut into triangles
+(`_face_triangles`), each triangle the slice's hue crosses giving a segment of the section
+(`_section_chroma`). The section is concave where the gamut is: there the hull alone spans the
+concave part (above the cusp of the process inks' yellow-greens by up to 8 C*, so that 16 % of
+a 17³ table's mapped nodes were missed by up to ΔE76 2.3: benchmarks/bench_press.py, section 7).
+The boundary is tabulated as the largest chroma C_max(h, L*) on `LIGHTNESS_NODES` lightness
+levels, smoothed across hue (a Gaussian of `HUE_SMOOTHING_BINS` slices) and interpolated
+bilinearly (periodic in hue). The mapping below takes a ray's first exit, continuous in the
+colour while the slice is star-shaped about the focal point (the ramps of
+tests/test_separation_press.py stay monotone and without a notch with the process inks);
+`refined` checks the boundary against the print (targets on it separated, C_max scaled by the
+chroma reached) and the report counts the mapped colours the separation still misses. The cusp
+of a hue is the (L*, C*) of its largest chroma.
 
 **The mapping** (`map_to_gamut`, vectorised):
 
