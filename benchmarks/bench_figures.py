@@ -14,7 +14,9 @@
    so only drawing is timed);
 4. presets: each accuracy preset's colour error (ΔE2000) against `fine` and its build time on
    a few cells (tables kept in out/bench/presets_cache); presets-quick: the two cells whose
-   fine tables take about a minute (not part of the default run);
+   fine tables take about a minute; presets-span: seven cells across the columns (~25 min
+   the first time); candidates: cheaper default settings (stride 3, 3 realizations) on the
+   seven cells against their fine tables (after presets-span); none of them in the default run;
 5. fig7: the whole Fig. 7 at `preview` from an empty cache, timed (~25 min);
 6. steps: the map's colour steps between columns in the committed Fig. 7 CSV (the scale of 4);
 7. compare: the committed `default` row of Fig. 7 against the same cells at `preview`;
@@ -35,7 +37,7 @@ import numpy as np
 
 from solver.colour.table_colour import lab_jacobian, node_errors, propagate_se, table_colour
 from solver.paper import PAPER_ALBEDO
-from solver.apps.figures.cells import CellResult, FigureSettings, plan_cells
+from solver.apps.figures.cells import CellResult, FigureSettings, estimates, plan_cells
 from solver.apps.figures.fig6 import DPHI_SAMPLES, azimuth_averaged, figure6, pixel_angles_rad
 from solver.apps.figures.layout import CellGeometry
 from solver.apps.figures.make import draw_grid_figure, duration, evaluate_cells
@@ -59,9 +61,10 @@ def plan_costs() -> None:
     for name, (rows, columns) in FIGURES.items():
         line = f"   {name:6s} {len(rows) * len(columns):5d}  "
         for accuracy in ACCURACY:
-            settings = FigureSettings(accuracy)
-            requests = [settings.request(r.ink, c.particles) for r in rows for c in columns]
-            t2, t16 = (sum(preflight.estimate(q, w).seconds for q in requests) for w in (2, 16))
+            plans = plan_cells(rows, columns, FigureSettings(accuracy))
+            empty = TableCache(Path(tempfile.gettempdir()) / "bench_figures_plan_no_cache")   # never created
+            t2, t16 = (sum(e.seconds for e in estimates(plans, BuildOptions(workers=w, progress=False, cache=empty))
+                           if e is not None) for w in (2, 16))
             line += f"{duration(t2) + ' / ' + duration(t16):>28s}  "
         print(line)
 
@@ -179,6 +182,39 @@ def preset_errors(cells=PRESET_CELLS) -> None:
           + "  ".join(f"{np.median(errors[a]):>14.2f} / {max(errors[a]):5.2f}" for a in ACCURACY))
 
 
+#: `candidates`: cheaper settings of the default preset, tried on SPAN_PRESET_CELLS against the
+#: fine tables of `presets-span` (run that first: it builds them)
+DEFAULT_CANDIDATES = {"default": {}, "stride 3": {"wavelength_stride": 3}, "3 realizations": {"realizations": 3},
+                      "stride 3, 3 realizations": {"wavelength_stride": 3, "realizations": 3}}
+
+
+def candidate_errors(cells=SPAN_PRESET_CELLS, candidates=DEFAULT_CANDIDATES) -> None:
+    """Each candidate setting's colour against `fine` and its build seconds (cells as `presets`)."""
+    from solver.colour.cie import delta_e2000
+    from solver.table.builder import get_or_build
+
+    cache = TableCache(OUT / "presets_cache")
+    print("\n4b. candidate default settings against fine (ΔE2000, 45:0/D50/2°; build seconds, 2 workers)")
+    print(f"   {'cell':32s} " + "  ".join(f"{c:>26s}" for c in candidates))
+    errors, seconds = {c: [] for c in candidates}, {c: 0.0 for c in candidates}
+    for ink, particles in cells:
+        fine, _, _ = get_or_build(table_request(ink, particles, accuracy="fine"),
+                                  BuildOptions(workers=2, progress=False, cache=cache))
+        fine_lab = table_colour(fine, PAPER_ALBEDO).lab
+        line = []
+        for name, overrides in candidates.items():
+            t0 = time.perf_counter()
+            table, _, built = get_or_build(table_request(ink, particles, **overrides),
+                                           BuildOptions(workers=2, progress=False, cache=cache))
+            t = time.perf_counter() - t0 if built else sum(table.meta.get("timings_s", {}).values())
+            errors[name].append(float(delta_e2000(table_colour(table, PAPER_ALBEDO).lab, fine_lab)))
+            seconds[name] += t
+            line.append(f"ΔE {errors[name][-1]:5.2f}, {t:6.0f} s")
+        print(f"   {ink + ' ' + particles:32s} " + "  ".join(f"{c:>26s}" for c in line), flush=True)
+    print(f"   {'median / max ΔE2000, total s':32s} "
+          + "  ".join(f"{np.median(errors[c]):>9.2f} / {max(errors[c]):4.2f}, {seconds[c]:5.0f} s" for c in candidates))
+
+
 def fig7_preview() -> None:
     """The whole Fig. 7 at `preview` from an empty cache, as a user runs it (the issue's ≤ 1 h)."""
     import subprocess
@@ -244,7 +280,6 @@ def fig7_sample(quick: bool = False, accuracy: str = "default") -> None:
     row's own total against the extrapolation from the other sampled rows (leave one row out).
     The full sample (3 rows × 17 columns) takes about a fifth of the figure; `quick` builds the
     first row's four representative cells only."""
-    from solver.apps.figures.cells import FigureSettings, plan_cells
     from solver.table.builder import pooled
 
     settings = FigureSettings(accuracy)
@@ -257,9 +292,13 @@ def fig7_sample(quick: bool = False, accuracy: str = "default") -> None:
     measured = {}
     with tempfile.TemporaryDirectory(prefix="fig7_sample_") as tmp:
         opts = BuildOptions(workers=2, progress=False, cache=TableCache(Path(tmp)))
+        # the whole figure's estimates, in its order: a cell whose grains an earlier row drew
+        # (geometry_store.py) is estimated without its geometry; the sampled rows draw their own
+        every_est = {(p.row.ink.label, p.column.particles): e.seconds
+                     for p, e in zip(every, estimates(every, opts)) if e is not None}
         with pooled(opts) as running:
             for p in plans:
-                est = preflight.estimate(p.request, 2).seconds
+                est = every_est[(p.row.ink.label, p.column.particles)]
                 t0 = time.perf_counter()
                 build_table(p.request, running)
                 measured[(p.row.ink.label, p.column.particles)] = (time.perf_counter() - t0, est)
@@ -269,8 +308,9 @@ def fig7_sample(quick: bool = False, accuracy: str = "default") -> None:
              for c in {col for (_, col), (_, e) in measured.items() if e > 0.5}}   # films: nothing to time
     known = [p for p in every if p.column.particles in ratio]
     measured = {k: v for k, v in measured.items() if k[1] in ratio}
-    total_est = sum(preflight.estimate(p.request, 2).seconds for p in every)
-    extrapolated = sum(preflight.estimate(p.request, 2).seconds * ratio[p.column.particles] for p in known)
+    total_est = sum(every_est.values())
+    extrapolated = sum(every_est[(p.row.ink.label, p.column.particles)] * ratio[p.column.particles]
+                       for p in known if (p.row.ink.label, p.column.particles) in every_est)
     print(f"   the figure's preflight estimate {duration(total_est)}; measured/estimate per column "
           + ", ".join(f"{c} {v:.2f}" for c, v in sorted(ratio.items())))
     if quick:
@@ -295,8 +335,10 @@ def main(argv=None) -> int:
                 "compare": preview_vs_default, "sample": fig7_sample,
                 "sample-quick": lambda: fig7_sample(quick=True),
                 "presets-quick": lambda: preset_errors(QUICK_PRESET_CELLS),
-                "presets-span": lambda: preset_errors(SPAN_PRESET_CELLS)}
-    for name in (argv or [n for n in sections if not n.startswith("sample") and not n.startswith("presets-")]):
+                "presets-span": lambda: preset_errors(SPAN_PRESET_CELLS),
+                "candidates": candidate_errors}
+    for name in (argv or [n for n in sections if not n.startswith("sample") and not n.startswith("presets-")
+                            and n != "candidates"]):
         sections[name]()
     return 0
 

@@ -135,7 +135,8 @@ def test_estimate_counts_the_solves_of_the_solved_wavelengths_at_the_measured_co
     assert every.solves == 3 * 16 * 7 * 2 and third.solves == 3 * 6 * 7 * 2   # 400, 460, … 700 (6 of 16)
     assert rough.solves == 2 * third.solves
     voxels = 32 * 32 * 16
-    per_solve = preflight.APPLICATIONS_PER_SOLVE * preflight.SECONDS_PER_VOXEL_LOG * voxels * math.log2(voxels)
+    per_solve = (preflight.QUIET_MACHINE_FACTOR * preflight.APPLICATIONS_PER_SOLVE * preflight.SECONDS_PER_VOXEL_LOG
+                 * voxels * math.log2(voxels))
     geometry = third.geometry_seconds * 3
     assert third.seconds == pytest.approx(geometry + third.solves * per_solve, rel=1e-9)
     assert rough.seconds - rough.geometry_seconds * 3 == pytest.approx(
@@ -143,6 +144,9 @@ def test_estimate_counts_the_solves_of_the_solved_wavelengths_at_the_measured_co
     monkeypatch.setattr(preflight, "SECONDS_PER_VOXEL_LOG", 2 * preflight.SECONDS_PER_VOXEL_LOG)
     doubled = preflight.estimate(table_request("R15", "sphere:300", wavelength_stride=3, **kw))
     assert doubled.seconds - geometry == pytest.approx(2 * (third.seconds - geometry), rel=1e-9)
+    # grains another ink drew already (geometry_store.py): only the solves are left
+    drawn = preflight.estimate(table_request("R15", "sphere:300", wavelength_stride=3, **kw), geometry_drawn=True)
+    assert third.geometry_seconds > 0 and drawn.seconds == pytest.approx(doubled.seconds - geometry, rel=1e-9)
 
 
 def test_auto_tier_estimate_weighs_the_tiers_the_probe_picks():

@@ -134,6 +134,7 @@ def test_code_fingerprint_hashes_the_solver_not_its_test_oracles():
     hashed = [p for name in WAVE_MODULES for p in _source_files(name)]
     names = {p.name for p in hashed if p.parent.name == "wave"}
     assert {"operator.py", "krylov.py", "zkernels.py", "solve.py"} <= names
+    assert {"sphere.py", "cylinder.py"} <= {p.name for p in hashed if p.parent.name == "shapes"}   # sub-packages too
     assert not {"oracles.py", "validation.py"} & names
     for path in hashed:
         for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):

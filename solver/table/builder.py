@@ -72,35 +72,37 @@ def _voxels_from_arrays(a: dict):
                           period_nm=tuple(a["period_nm"]), z_range_nm=tuple(a["z_range_nm"]))
 
 
-def _cached_units(request, opts, names, make_unit, fn, encode, decode, desc):
-    """Load the named parts that exist, compute the rest (in parallel), store each as it ends."""
-    cache = opts.cache
-    results = [None] * len(names)
-    todo = []
-    for i, name in enumerate(names):
-        part = cache.load_part(request, name)
-        if part is not None:
-            results[i] = decode(part)
-        else:
-            todo.append(i)
+def _cached_units(opts, count, load, store, make_unit, fn, desc):
+    """Results of `count` units: load(i) → a stored result or None; the rest are computed (in
+    parallel) and store(i, result) keeps each as it ends."""
+    results = [load(i) for i in range(count)]
+    todo = [i for i, r in enumerate(results) if r is None]
     if todo:
-        log.info("%s: %d of %d units to compute (%d reused)", desc, len(todo), len(names), len(names) - len(todo))
-        store = lambda k, res: cache.store_part(request, names[todo[k]], encode(res))
+        log.info("%s: %d of %d units to compute (%d reused)", desc, len(todo), count, count - len(todo))
         fresh = run_units(fn, [make_unit(i) for i in todo], workers=opts.workers, scheduler=opts.scheduler,
-                          desc=desc, on_result=store, progress=opts.progress, pool=opts.pool)
+                          desc=desc, on_result=lambda k, res: store(todo[k], res), progress=opts.progress,
+                          pool=opts.pool)
         for k, i in enumerate(todo):
             results[i] = fresh[k]
     return results
 
 
 def _geometry(request, opts, timer, realizations=None):
+    """Voxel fractions of the realizations (all by default), shared through the cache with every
+    table on the same grains (geometry_store.py)."""
+    from . import geometry_store
     from .wave_tier import GeometryUnit, geometry_unit
 
     rs = list(range(request.wave.realizations) if realizations is None else realizations)
+    keys = [geometry_store.key(request, r) for r in rs]
+
+    def load(i):
+        arrays = opts.cache.load_geometry(keys[i])
+        return None if arrays is None else geometry_store.relabel(_voxels_from_arrays(arrays), request)
+
     t0 = time.perf_counter()
-    out = _cached_units(request, opts, [f"geom_r{r}" for r in rs],
-                        lambda k: GeometryUnit(request, rs[k]), geometry_unit,
-                        _voxels_to_arrays, _voxels_from_arrays, "geometry")
+    out = _cached_units(opts, len(rs), load, lambda i, vox: opts.cache.store_geometry(keys[i], _voxels_to_arrays(vox)),
+                        lambda i: GeometryUnit(request, rs[i]), geometry_unit, "geometry")
     timer.add("geometry", time.perf_counter() - t0)
     return out
 
@@ -109,11 +111,13 @@ def _solves(request, opts, timer, method, voxels, pairs, stage="solve"):
     """Solve units for (realization, λ index) pairs with the given method (timed as `stage`)."""
     from .wave_tier import SolveUnit, solve_unit
 
+    names = [f"{method}_r{r}_l{li}" for r, li in pairs]
     t0 = time.perf_counter()
-    out = _cached_units(request, opts, [f"{method}_r{r}_l{li}" for r, li in pairs],
-                        lambda k: SolveUnit(request, pairs[k][0], pairs[k][1], voxels[pairs[k][0]], method,
+    out = _cached_units(opts, len(pairs), lambda i: opts.cache.load_part(request, names[i]),
+                        lambda i, res: opts.cache.store_part(request, names[i], res),
+                        lambda i: SolveUnit(request, pairs[i][0], pairs[i][1], voxels[pairs[i][0]], method,
                                             opts.threads),
-                        solve_unit, lambda d: d, lambda d: d, f"solve ({method})")
+                        solve_unit, f"solve ({method})")
     timer.add(stage, time.perf_counter() - t0)
     return out
 
@@ -151,13 +155,12 @@ def build_table(request: TableRequest, opts: BuildOptions | None = None) -> InkT
 
 def _build_wave(request: TableRequest, opts: BuildOptions) -> InkTable:
     timer = _Timer()
-    from .wave_ensemble import reduce_units
-    from .wave_tier import realization_seed
-
     voxels = None
     tier, report = request.wave.tier, {}
     if tier == "auto":
-        voxels = _geometry(request, opts, timer)
+        # the probe solves realization 0; the other workers draw the next realizations meanwhile
+        # (the rest only once a wave tier is chosen: an effective-medium table needs none)
+        voxels = _geometry(request, opts, timer, range(min(request.wave.realizations, usable_workers(opts.workers))))
         probe = tier_choice.probe_wavelength_indices(request)
         full = _solves(request, opts, timer, "full", voxels, [(0, li) for li in probe], "tier_probe")
         born = _solves(request, opts, timer, "born", voxels, [(0, li) for li in probe], "tier_probe")
@@ -172,33 +175,21 @@ def _build_wave(request: TableRequest, opts: BuildOptions) -> InkTable:
         voxels = _geometry(request, opts, timer)
     method = "born" if tier == "born" else "full"
     solved, nr = list(request.solved_wavelength_indices), request.wave.realizations
-    count = len(request.grids.wavelengths_nm)
     units: dict[tuple[int, int], object] = {}            # (realization, wavelength index) → unit
     while True:
         voxels = voxels + _geometry(request, opts, timer, range(len(voxels), nr))
         todo = [(r, li) for r in range(nr) for li in solved if (r, li) not in units]
         units.update(zip(todo, _solves(request, opts, timer, method, voxels, todo)))
-        # the solved wavelengths' own request (grids only: units index the full request's wavelengths)
-        coarse_request = request.with_grids(wavelengths_nm=tuple(request.grids.wavelengths_nm[i] for i in solved))
         t0 = time.perf_counter()
-        extra = {"tier_probe": report, "realizations_used": nr}
-        if len(solved) < count:
-            extra["solved_wavelengths_nm"] = list(coarse_request.grids.wavelengths_nm)
-        meta = table_meta(request, tier, reason, seeds=[realization_seed(request, r) for r in range(nr)],
-                          timings_s=timer.stages, extra=extra)
-        table = reduce_units(coarse_request, [[units[r, li] for li in solved] for r in range(nr)], meta)
-        if len(solved) < count:
-            table = spectral.refine(table, spectral.guide_film(request), tuple(solved))
-            broken = spectral.unsolved_breaking_energy(table, solved)
-            if broken:
-                # the guide film's bands are sharper than the solved wavelengths resolve: what the
-                # interpolation cannot give is solved, never passed off (docs/tables.md, "Wavelength stride")
-                log.info("film-guided wavelengths break energy at %s nm: solving them",
-                         [round(float(request.grids.wavelengths_nm[i])) for i in broken])
-                solved = sorted(set(solved) | set(broken))
-                timer.add("reduce", time.perf_counter() - t0)
-                continue
+        table, broken = _reduce(request, tier, reason, report, units, solved, nr, timer)
         timer.add("reduce", time.perf_counter() - t0)
+        if broken:
+            # the guide film's bands are sharper than the solved wavelengths resolve: what the
+            # interpolation cannot give is solved, never passed off (docs/tables.md, "Wavelength stride")
+            log.info("film-guided wavelengths break energy at %s nm: solving them",
+                     [round(float(request.grids.wavelengths_nm[i])) for i in broken])
+            solved = sorted(set(solved) | set(broken))
+            continue
         more = _more_realizations(request, table, nr)
         if more == nr:
             break
@@ -207,6 +198,26 @@ def _build_wave(request: TableRequest, opts: BuildOptions) -> InkTable:
         nr = more
     table.meta["timings_s"] = dict(timer.stages)
     return table
+
+
+def _reduce(request, tier, reason, report, units, solved, nr, timer):
+    """(table, broken): the ensemble of the solved wavelengths, film-guided in between; broken:
+    the unsolved wavelengths whose guided values break energy (spectral.py)."""
+    from .wave_ensemble import reduce_units
+    from .wave_tier import realization_seed
+
+    # the solved wavelengths' own request (grids only: units index the full request's wavelengths)
+    coarse_request = request.with_grids(wavelengths_nm=tuple(request.grids.wavelengths_nm[i] for i in solved))
+    extra = {"tier_probe": report, "realizations_used": nr}
+    if len(solved) < len(request.grids.wavelengths_nm):
+        extra["solved_wavelengths_nm"] = list(coarse_request.grids.wavelengths_nm)
+    meta = table_meta(request, tier, reason, seeds=[realization_seed(request, r) for r in range(nr)],
+                      timings_s=timer.stages, extra=extra)
+    table = reduce_units(coarse_request, [[units[r, li] for li in solved] for r in range(nr)], meta)
+    if len(solved) == len(request.grids.wavelengths_nm):
+        return table, []
+    table = spectral.refine(table, spectral.guide_film(request), tuple(solved))
+    return table, spectral.unsolved_breaking_energy(table, solved)
 
 
 def _worst_se(table: InkTable) -> float | None:

@@ -3,13 +3,15 @@
     <root>/tables/<key>.npz     finished tables, <key>.json the request that made them
     <root>/parts/<key>/*.npz    finished work units of a build in progress
     <root>/locks/<key>.lock     one builder per table (flock)
+    <root>/geometry/<key>.npz   voxel fractions of one realization, shared by every table whose
+                                grains are the same (geometry_store.py)
 
 Root: $INKBSDF_CACHE, else ~/.cache/inkbsdf.  A cache that cannot be written (a shared,
 read-only folder) serves the tables it holds; only a build needs it writable.  Every write is atomic (temp file + rename), so
 an interrupted build leaves only whole files; the next build reuses them and computes the rest.
 A part that cannot be read or holds non-finite numbers is logged by name, removed and
-recomputed.  Temp files of writers that died (their pid is in the name) and parts of builds
-abandoned for PARTS_MAX_AGE_DAYS are swept when a build starts.
+recomputed.  Temp files of writers that died (their pid is in the name), parts of builds
+abandoned and geometry unused for PARTS_MAX_AGE_DAYS are swept when a build starts.
 """
 
 from __future__ import annotations
@@ -78,7 +80,7 @@ class TableCache:
         if self.root.exists() and not self.root.is_dir():
             raise CacheError(f"{where} {self.root} is a file, not a folder: point it at a folder")
         try:
-            for sub in ("tables", "parts", "locks"):
+            for sub in ("tables", "parts", "locks", "geometry"):
                 (self.root / sub).mkdir(parents=True, exist_ok=True)
         except OSError as exc:
             raise CacheError(f"{where} {self.root} cannot be created ({exc.strerror}): choose a writable "
@@ -89,7 +91,8 @@ class TableCache:
 
     def sweep(self) -> None:
         """Remove temp files of dead writers and parts of builds abandoned long ago."""
-        for tmp in list(self.root.glob("tables/*.tmp")) + list(self.root.glob("parts/*/*.tmp")):
+        for tmp in (list(self.root.glob("tables/*.tmp")) + list(self.root.glob("parts/*/*.tmp"))
+                    + list(self.root.glob("geometry/*.tmp"))):
             try:
                 pid = int(tmp.name.rsplit(".", 3)[-3])
             except (ValueError, IndexError):
@@ -106,6 +109,10 @@ class TableCache:
                 log.info("removing parts of a build abandoned %.0f days ago: %s",
                          (time.time() - newest) / 86400.0, folder)
                 shutil.rmtree(folder, ignore_errors=True)
+        for path in self.root.glob("geometry/*.npz"):          # read refreshes the mtime
+            with contextlib.suppress(OSError):
+                if path.stat().st_mtime < cutoff:
+                    path.unlink()
 
     def load(self, request: TableRequest) -> InkTable | None:
         """The finished table, or None when absent (a corrupt entry is removed, never served)."""
@@ -151,22 +158,43 @@ class TableCache:
     # -- partial results of an unfinished build ---------------------------------------------
     def load_part(self, request: TableRequest, name: str) -> dict | None:
         """A stored unit result, or None (absent, unreadable or non-finite: removed, recomputed)."""
-        path = self.parts_dir(request) / f"{name}.npz"
-        if not path.exists():
-            return None
-        try:
-            with np.load(path, allow_pickle=False) as npz:
-                part = {k: npz[k] for k in npz.files}
-        except (zipfile.BadZipFile, EOFError, OSError, ValueError) as exc:
-            log.warning("unreadable part %s (%s): recomputing it", path, exc)
-            path.unlink(missing_ok=True)
-            return None
-        bad = [k for k, v in part.items() if v.dtype.kind in "fc" and not np.all(np.isfinite(v))]
-        if bad:
-            log.warning("part %s holds non-finite values in %s: recomputing it", path, ", ".join(bad))
-            path.unlink(missing_ok=True)
-            return None
-        return part
+        return _load_arrays(self.parts_dir(request) / f"{name}.npz")
 
     def store_part(self, request: TableRequest, name: str, arrays: dict) -> None:
         atomic_savez(self.parts_dir(request) / f"{name}.npz", arrays, durable=False)
+
+    # -- geometry shared between tables (geometry_store.py) --------------------------------
+    def load_geometry(self, key: str) -> dict | None:
+        """A realization's stored voxel fractions, or None; a read keeps it from the sweep."""
+        path = self.root / "geometry" / f"{key}.npz"
+        arrays = _load_arrays(path)
+        if arrays is not None:
+            with contextlib.suppress(OSError):      # a read-only cache still serves it
+                os.utime(path)
+        return arrays
+
+    def has_geometry(self, key: str) -> bool:
+        return (self.root / "geometry" / f"{key}.npz").exists()
+
+    def store_geometry(self, key: str, arrays: dict) -> None:
+        """Compressed: the fractions are mostly 0 and 1 (a 48×48×24 realization ~0.7 MB raw)."""
+        atomic_savez(self.root / "geometry" / f"{key}.npz", arrays, compressed=True, durable=False)
+
+
+def _load_arrays(path: Path) -> dict | None:
+    """The arrays of a stored npz, or None (absent, unreadable or non-finite: removed)."""
+    if not path.exists():
+        return None
+    try:
+        with np.load(path, allow_pickle=False) as npz:
+            arrays = {k: npz[k] for k in npz.files}
+    except (zipfile.BadZipFile, EOFError, OSError, ValueError) as exc:
+        log.warning("unreadable part %s (%s): recomputing it", path, exc)
+        path.unlink(missing_ok=True)
+        return None
+    bad = [k for k, v in arrays.items() if v.dtype.kind in "fc" and not np.all(np.isfinite(v))]
+    if bad:
+        log.warning("part %s holds non-finite values in %s: recomputing it", path, ", ".join(bad))
+        path.unlink(missing_ok=True)
+        return None
+    return arrays

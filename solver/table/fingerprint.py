@@ -26,7 +26,9 @@ WAVE_MODULES = FILM_MODULES + ("solver.geometry", "solver.wave", "solver.table.w
 #: reference solutions (solver/wave/oracles.py, validation.py): no table imports them, so they
 #: never change a table's number
 _NOT_NUMERIC = {"render.py", "report.py", "oracles.py", "validation.py"}
-KINDS = {"film": FILM_MODULES, "wave": WAVE_MODULES}
+#: the code that turns a layer's grains into voxel fractions (the shared geometry's key, geometry_store.py)
+GEOMETRY_MODULES = ("solver.geometry",)
+KINDS = {"film": FILM_MODULES, "wave": WAVE_MODULES, "geometry": GEOMETRY_MODULES}
 
 
 def _strip_docstrings(tree: ast.AST) -> ast.AST:
@@ -39,11 +41,15 @@ def _strip_docstrings(tree: ast.AST) -> ast.AST:
     return tree
 
 
+def _package_dir(module_name: str) -> Path:
+    return Path(importlib.import_module(module_name).__file__).parent
+
+
 def _source_files(module_name: str) -> list[Path]:
     module = importlib.import_module(module_name)
     path = Path(module.__file__)
-    if path.name == "__init__.py":
-        return sorted(p for p in path.parent.glob("*.py") if p.name not in _NOT_NUMERIC)
+    if path.name == "__init__.py":      # a package: every module in it and its sub-packages
+        return sorted(p for p in path.parent.rglob("*.py") if p.name not in _NOT_NUMERIC)
     return [path]
 
 
@@ -54,9 +60,9 @@ def file_digest(path: str, mtime_ns: int) -> str:
 
 
 def code_fingerprint(kind: str) -> str:
-    """Hash of the numeric code of a pipeline kind ('film' or 'wave'), 16 hex digits."""
+    """Hash of the numeric code of a pipeline kind ('film', 'wave' or 'geometry'), 16 hex digits."""
     h = hashlib.sha256(kind.encode())
     for name in KINDS[kind]:
         for path in _source_files(name):
-            h.update(f"{name}:{path.name}".encode() + file_digest(str(path), path.stat().st_mtime_ns).encode())
+            h.update(f"{name}:{path.relative_to(_package_dir(name))}".encode() + file_digest(str(path), path.stat().st_mtime_ns).encode())
     return h.hexdigest()[:16]

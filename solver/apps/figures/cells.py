@@ -166,11 +166,22 @@ def plan_cells(rows, columns, settings: FigureSettings) -> list[CellPlan]:
 
 def estimates(plans, opts: BuildOptions) -> list:
     """What each cell's build needs (`preflight.Estimate`), None for a cached table or a failed
-    plan."""
-    from solver.table import preflight
+    plan; a cell whose grains an earlier cell (or the cache) has drawn is estimated without its
+    geometry (solver/table/geometry_store.py).  The cells share one pool of workers
+    (`make`), whose start the first particle cell carries."""
+    from solver.table import geometry_store, preflight
 
-    return [None if plan.request is None or opts.cache.table_path(plan.request).exists()
-            else preflight.estimate(plan.request, opts.workers) for plan in plans]
+    out, drawn, pool = [], set(), False
+    for plan in plans:
+        if plan.request is None or opts.cache.table_path(plan.request).exists():
+            out.append(None)
+            continue
+        key = None if plan.request.molecular else geometry_store.key(plan.request, 0)
+        out.append(preflight.estimate(plan.request, opts.workers, pool_running=pool,
+                                      geometry_drawn=key is not None and (key in drawn or opts.cache.has_geometry(key))))
+        drawn.add(key)
+        pool = pool or not plan.request.molecular
+    return out
 
 
 def refuse_what_cannot_fit(figure: str, plans, ests, opts: BuildOptions) -> None:
