@@ -12,7 +12,9 @@ arrays are read):
   coverage model, its delta lobe (selection probability and weight), its directional albedo;
 - polarisation: the Mueller matrix of a Jones matrix diag(a_s, a_p);
 - ellipsoids: the depolarisation factor by its integral, the shape matrix of a spheroid, Perram & Wertheim's overlap function, the distance
-  of two ellipsoids by constrained minimisation.
+  of two ellipsoids by constrained minimisation;
+- a print's gamut: the largest chroma at a lightness and hue, by brute force over the 2-D faces
+  of the coverage polytope (the print model and the hue function passed in).
 
 Conventions as the solver's (docs/design.md §1, §4): nm, radians, e^(−iωt), z downward.
 """
