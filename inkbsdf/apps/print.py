@@ -178,9 +178,10 @@ def black_ink(args, inks):
 def gamut_settings(args):
     from solver.apps.separation import GamutSettings
 
-    if not 0.0 <= args.gamut_knee < 1.0:
-        raise UsageError(f"--gamut-knee: give a share in [0, 1), got {args.gamut_knee:g}")
-    return GamutSettings(knee=args.gamut_knee)
+    try:                               # the range lives in GamutSettings; the knee is all the CLI sets
+        return GamutSettings(knee=args.gamut_knee)
+    except ValueError as exc:
+        raise UsageError(f"--gamut-knee: {exc}") from None
 
 
 def lut_nodes(args) -> int:
