@@ -365,3 +365,18 @@ def test_characterisation_chart_parses(rybk):
     import colour
     white = colour.XYZ_to_xy(rybk.absolute_white_xyz)
     np.testing.assert_allclose(colour.XYZ_to_Lab(data[:, 5:8] / 100.0, white), data[:, 8:11], atol=1e-2)  # 4 decimals
+
+
+def test_dark_reds_that_need_much_black_are_reached(process_separator):
+    """Printable dark reds (K ≈ 0.9 under M and Y) whose black aim is near 0 (saturated): the
+    black-aimed pass ends in a local minimum with little black; the colour-first pass must
+    still find them (a photograph's shadows on a red fruit missed them by up to ΔE76 2.7)."""
+    from solver.apps.separation.solve import separate_lab
+
+    sep = process_separator
+    assert sep.objective.black == 0                    # the process inks print K, C, M, Y
+    rng = np.random.default_rng(3)
+    cov = rng.uniform([0.8, 0.0, 0.85, 0.6], [0.95, 0.05, 1.0, 0.8], (40, 4))
+    targets = sep.model.lab(cov)                       # printable by construction (TAC ≤ 2.8)
+    result = separate_lab(sep.model, targets, sep.solver, grid=sep.grid, objective=sep.objective)
+    assert np.max(result.delta_e76) < sep.solver.gamut_de, np.sort(result.delta_e76)[-5:]

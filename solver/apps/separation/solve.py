@@ -78,6 +78,13 @@ class CoverageGrid:
         lab = model.lab(coverages)
         return cls(coverages, lab, cKDTree(lab))
 
+    def on(self, objective) -> "CoverageGrid":
+        """The same coverage nodes with another objective's residuals (e.g. the polishing pass's)."""
+        from scipy.spatial import cKDTree
+
+        lab = objective.lab(self.coverages)
+        return CoverageGrid(self.coverages, lab, cKDTree(lab))
+
     def nearest(self, lab_targets, count: int = 1) -> np.ndarray:
         """Coverages [N, count, k] of the `count` nodes nearest to the targets [N, 3] in
         CIELAB, nearest first."""
@@ -264,6 +271,7 @@ def separate_lab(model: PrintColourModel, target_lab, settings: SolverSettings =
     k = model.n_inks
     coverages = np.empty((targets.shape[0], k))
     iterations = np.zeros(targets.shape[0], dtype=np.int64)
+    polish_grid = None
     for start in range(0, targets.shape[0], settings.chunk):
         part = slice(start, start + settings.chunk)
         t = wanted[part]
@@ -273,8 +281,21 @@ def separate_lab(model: PrintColourModel, target_lab, settings: SolverSettings =
             rows = np.flatnonzero(miss) + part.start
             if rows.size:
                 polish = objective.polished()
-                coverages[rows], _, more = lm_solve(polish, polish.targets(targets[rows]), coverages[rows], settings)
+                polish_grid = polish_grid or grid.on(polish)
+                coverages[rows], lab_rows, more = lm_solve(polish, polish.targets(targets[rows]), coverages[rows], settings)
                 iterations[rows] += more
+                # still missed: the black aim held the first pass where the colour needs another
+                # black (dark reds: K ≈ 0.9 against an aim near 0), so start again from the nodes
+                # nearest to the colour alone
+                still = np.linalg.norm(lab_rows[:, :3] - targets[rows], axis=-1) > settings.tolerance_de
+                if np.any(still):
+                    again = rows[still]
+                    c2, lab2, it2 = multistart(polish, polish.targets(targets[again]), polish_grid,
+                                               replace(settings, starts=8, near_miss_starts=32))
+                    better = (np.linalg.norm(lab2[:, :3] - targets[again], axis=-1)
+                              < np.linalg.norm(lab_rows[still, :3] - targets[again], axis=-1))
+                    coverages[again[better]] = c2[better]
+                    iterations[again] += it2
         if progress is not None:
             progress(t.shape[0])
     if objective is not None:
