@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..geometry.stacking import split_cells
+from ..seeds import checked_seed
 from .options import OPTION
 from .schema import POLARISATIONS
 
@@ -127,8 +128,7 @@ def validate(req: TableRequest) -> None:
     if not isinstance(w.max_realizations, (int, np.integer)) or w.max_realizations < w.realizations:
         raise RequestError(f"{OPTION['max_realizations']} must be an integer ≥ --realizations "
                            f"({w.realizations}), got {w.max_realizations!r}")
-    if not isinstance(w.seed, (int, np.integer)) or w.seed < 0:
-        raise RequestError(f"{OPTION['seed']} must be an integer ≥ 0, got {w.seed!r}")
+    checked_seed(w.seed, OPTION["seed"], RequestError)
     if w.tier not in TIERS:
         raise RequestError(f"{OPTION['tier']} {w.tier!r}: choose one of {', '.join(TIERS)}")
     if w.tier == "thin-film":

@@ -10,6 +10,7 @@ exactly through the particles and through the voxel grid the wave solver uses.
 from __future__ import annotations
 
 from solver.inks import parse_ink
+from solver.seeds import checked_seed
 from solver.table.preflight import GEOMETRY_FIX, check_geometry
 from solver.table.request import WaveSettings
 from solver.table.request_checks import refuse_grains_without_pigment
@@ -66,12 +67,12 @@ def generator_seed(args, ink, particles, cell) -> tuple[int, str]:
     if args.realization is None:
         if args.table_seed is not None:
             raise ValueError("--table-seed goes with --realization K (the tables' realization to draw)")
-        seed = 0 if args.seed is None else args.seed
+        seed = 0 if args.seed is None else checked_seed(args.seed, "--seed")
         return seed, f"seed {seed}"
     if args.realization < 0:
         raise ValueError(f"--realization {args.realization}: realizations count from 0")
-    if args.table_seed is not None and args.table_seed < 0:
-        raise ValueError(f"--table-seed {args.table_seed}: the tables' seed is an integer ≥ 0")
+    if args.table_seed is not None:
+        checked_seed(args.table_seed, "--table-seed")
     from solver.table.request import table_request
     from solver.table.wave_tier import realization_seed
 
