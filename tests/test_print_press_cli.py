@@ -112,6 +112,8 @@ def test_characterisation_written_alone(tmp_path, capsys):
 
 BAD = [(["--tac", "50"], "--tac"), (["--black-strength", "2"], "--black-strength"),
        (["--black-start", "1"], "--black-start"), (["--black-ink", "Y30"], "--black-ink"),
+       (["--black-ink", "K"], "--black-ink 'K' must be an ink spec of --inks (R30, B30) or none; "
+                              "bad ink term 'K' in 'K': pigment K lacks its volume percent"),
        (["--lut", "1"], "--lut"), (["--gamut-knee", "1.5"], "--gamut-knee"), (["--black", "max"], "--black")]
 
 

@@ -157,7 +157,8 @@ def black_ink(args, inks):
     try:
         label = parse_ink(split_ink(args.black_ink)[0]).label
     except ValueError as exc:
-        raise UsageError(f"--black-ink: {exc}") from None
+        raise UsageError(f"--black-ink {args.black_ink!r} must be an ink spec of --inks ({', '.join(inks)}) or none; "
+                         f"{exc}") from None
     if label not in [split_ink(x)[0] for x in inks]:
         raise UsageError(f"--black-ink: {args.black_ink} is not one of --inks ({', '.join(inks)}); name one "
                          "of them or none")
