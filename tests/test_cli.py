@@ -80,11 +80,15 @@ def test_wavelength_range():
     ["build", "--ink", "R30", "--grid", "64", "64", "-o", "x.npz"],
     ["build", "-o", "x.npz"],
     ["paper", "fig10", "-o", "x.png"],
+    ["show", "a.npz", "b.npz"],
+    ["build", "--ink", "R30", "-o", "x.npz", "extra"],
 ])
 def test_usage_errors_are_one_line(argv, capsys):
+    """…prefixed with the subcommand, as its other errors are (arguments left over too)."""
     status, _, err = run_main(main, argv, capsys)
     lines = err.strip().splitlines()
     assert status == 2 and len(lines) == 1 and "usage:" not in err and "see --help" in lines[0]
+    assert lines[0].startswith(f"ink-tables {argv[0]}: error: "), lines
 
 
 @pytest.mark.parametrize("command", [["build"], ["paper"], ["show"], ["geometry"]])
