@@ -57,14 +57,6 @@ def _fmt_percent(fraction: float) -> str:
 _TERM = re.compile(r"^([A-Za-z]+)\s*(-?[0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)\s*%?$")
 
 
-def _is_pigment(code: str) -> bool:
-    try:
-        get_pigment(code)
-    except ValueError:
-        return False
-    return True
-
-
 def parse_ink(spec: "str | Ink") -> Ink:
     """Parse an ink spec string (an Ink passes through); raise InkSpecError naming the problem."""
     if isinstance(spec, Ink):
@@ -77,9 +69,6 @@ def parse_ink(spec: "str | Ink") -> Ink:
     components: dict[str, float] = {}
     for term in text.split("+"):
         match = _TERM.match(term.strip())
-        if not match and term.strip().isalpha() and _is_pigment(term.strip().upper()):
-            raise InkSpecError(f"bad ink term {term.strip()!r} in {spec!r}: pigment {term.strip().upper()} lacks its "
-                               f"volume percent, e.g. '{term.strip().upper()}15'")
         if not match:
             raise InkSpecError(
                 f"bad ink term {term.strip()!r} in {spec!r}: expected a pigment letter and a "

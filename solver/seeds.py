@@ -1,6 +1,7 @@
 """A random seed given by the user — `--seed` of `ink-tables build`/`geometry` and of
-`python -m inkbsdf.render`, `--table-seed`, a table request's seed, a realization's generator
-seed: the one check and its one message.
+`python -m inkbsdf.render`, `--table-seed`, a table request's seed: the one check and its one
+message (solver.geometry.populations keeps its own guard of a generator seed ≥ 0: editing that
+module would change every cached table's key, solver/table/fingerprint.py).
 
 A seed is an unsigned 32-bit integer, [0, 2^32): the range Mitsuba's sampler takes (`mi.render`'s
 seed is a UInt32; outside it nanobind refuses the call with a raw type error). The tables' and

@@ -46,8 +46,11 @@ def test_build_and_show(tmp_path, capsys):
     (["build", "--ink", "G30", "--local-field", "--no-local-field", "-o", "x.npz"], "not allowed with"),
     (["geometry", "--ink", "Y15", "--particles", "sphere:100", "--z", "5000"], "section must lie inside"),
     (["build", "--ink", "R30", "--particles", "sphere:5000", "-o", "x.npz"],
-     "--particles sphere:5000: a grain is 5000 nm high in its orientation, larger than the layer (--thickness "
-     "1000 nm): give a smaller grain or a thicker --thickness"),
+     "--particles: particle sphere:5000 is 5000 nm high in its orientation, larger than the layer (1000 nm): "
+     "give a smaller grain or a thicker --thickness"),
+    (["geometry", "--ink", "R30", "--particles", "sphere:600", "--cell", "1000"],
+     "--particles: particle sphere:600 spans 600 nm, too large for a 1000x1000 nm cell (needs less than half the "
+     "cell side): give a smaller grain or a larger --cell"),
     (["geometry", "--ink", "R30", "--particles", "sphere:1500"], "a smaller grain or a thicker --thickness"),
     (["build", "--ink", "Y15/B15", "--thickness", "800,600,400", "-o", "x.npz"],
      "--thickness gives 3 values for 2 layers: give one value for all layers or 2, one per layer"),

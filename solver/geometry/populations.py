@@ -19,7 +19,6 @@ from .bodies import Bodies
 from .orientation import sample_orientations
 from .spec import SPREAD_TRUNCATION_SIGMA, GeometryError, LayerSpec
 from .walls import Walls, draw_protrusion
-from ..seeds import checked_seed
 
 #: Child streams of SeedSequence(seed), by step.
 STREAMS = ("sizes", "order", "orientations", "placement", "agglutination")
@@ -27,8 +26,9 @@ STREAMS = ("sizes", "order", "orientations", "placement", "agglutination")
 
 def seed_streams(seed: int) -> dict[str, np.random.SeedSequence]:
     """The independent random streams of one realization, by step name (`STREAMS`)."""
-    seed = checked_seed(seed, "seed", GeometryError)
-    return dict(zip(STREAMS, np.random.SeedSequence(seed).spawn(len(STREAMS))))
+    if not isinstance(seed, (int, np.integer)) or isinstance(seed, bool) or seed < 0:
+        raise GeometryError(f"seed must be a non-negative integer, got {seed!r}")
+    return dict(zip(STREAMS, np.random.SeedSequence(int(seed)).spawn(len(STREAMS))))
 
 
 @dataclass(frozen=True, eq=False)

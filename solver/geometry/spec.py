@@ -236,16 +236,15 @@ class LayerSpec:
         dmax = spec.max_diameter_nm
         height = spec.max_height_nm(dmax)
         if height > self.thickness_nm:
-            what = "a grain" if spec.size_spread == 0 else f"the largest grain ({fmt(dmax)} nm at 3σ)"
+            what = "particle" if spec.size_spread == 0 else f"largest particle ({fmt(dmax)} nm at 3σ)"
             raise GeometryError(
-                f"--particles {spec.label}: {what} is {fmt(height)} nm high in its orientation, larger than the "
-                f"layer (--thickness {fmt(self.thickness_nm)} nm): give a smaller grain or a thicker --thickness")
+                f"{what} {spec.label} is {fmt(height)} nm high in its orientation, larger than the "
+                f"layer ({fmt(self.thickness_nm)} nm)")
         span = spec.span_nm(dmax)
         if span >= 0.5 * min(cell):
             raise GeometryError(
-                f"--particles {spec.label}: a grain spans {fmt(span)} nm, too large for a "
-                f"{fmt(cell[0])}x{fmt(cell[1])} nm cell (needs less than half the cell side): give a smaller "
-                "grain or a larger --cell")
+                f"particle {spec.label} spans {fmt(span)} nm, too large for a {fmt(cell[0])}x{fmt(cell[1])} nm "
+                "cell (needs less than half the cell side)")
 
     @property
     def label(self) -> str:

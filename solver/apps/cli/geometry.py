@@ -13,7 +13,7 @@ from solver.inks import parse_ink
 from solver.seeds import checked_seed
 from solver.table.preflight import GEOMETRY_FIX, check_geometry
 from solver.table.request import WaveSettings
-from solver.table.request_checks import refuse_grains_without_pigment
+from solver.table.request_checks import checked_layer, refuse_grains_without_pigment
 from .parsing import PARTICLE_GRAMMAR, PARTICLE_GRAMMAR_KEY, DefaultsFormatter, writable_output
 
 
@@ -86,7 +86,7 @@ def generator_seed(args, ink, particles, cell) -> tuple[int, str]:
 
 
 def run(args) -> int:
-    from solver.geometry import LayerSpec, generate, parse_particles, voxelize
+    from solver.geometry import generate, parse_particles, voxelize
     from solver.geometry.render import draw_sections
     from solver.geometry.report import summary
 
@@ -111,7 +111,7 @@ def run(args) -> int:
         if value is not None and not 0.0 <= value <= top:
             raise ValueError(f"{option} {value:g}: the section must lie inside the layer cell, 0 … {top:g} nm")
     seed, seed_text = generator_seed(args, ink, particles, cell)
-    layer = LayerSpec(ink, particles, thickness_nm=args.thickness, cell_nm=cell)
+    layer = checked_layer(ink, particles, args.thickness, cell)
     if args.png:
         writable_output(args.png, ".png", "--png", make_folder=True)
     check_geometry(layer, grid, force=args.force)
