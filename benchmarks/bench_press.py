@@ -19,8 +19,8 @@
    ΔE2000 and the worst gradient's monotonicity and largest step;
 6. black generation (none, UCR, GCR 0.7, GCR 1, a 260 % TAC) on the photograph's colours: ink
    totals, black and chromatic ink, the print's miss;
-7. the gamut boundary's knobs (hue slices, face samples, the check against the print): build
-   time, table nodes the solver misses, ColorChecker.
+7. the gamut boundary's knobs (hue slices, face samples, the check against the print, the hue
+   smoothing): build time, table nodes the solver misses, ColorChecker.
 
 Timings under load are not README numbers (the lead re-measures on a quiet machine).
 """
@@ -223,24 +223,26 @@ def boundary_knobs(settings, printed) -> None:
     from solver.apps.separation.job import build_separator
 
     _, ref, rgb8, _ = colorchecker_srgb8()
-    saved = (gamut.HUE_BINS, gamut.FACE_NODES, gamut.REFINE_STEP_L)
-    print("\n7. gamut boundary knobs: hue slices, face samples per axis, check step (L*; off: no check against the print) → build s, "
-          "17³ nodes missed by > 0.5 ΔE76 (max), ColorChecker mean")
+    saved = (gamut.HUE_BINS, gamut.FACE_NODES, gamut.REFINE_STEP_L, gamut.HUE_SMOOTHING_BINS)
+    print("\n7. gamut boundary knobs: hue slices, face samples per axis, check step (L*; off: no check against the print), "
+          "hue smoothing σ (slices) → build s, 17³ nodes missed by > 0.5 ΔE76 (max), ColorChecker mean")
     try:
-        for hue_bins, face, step in ((180, 49, 3.0), (90, 49, 3.0), (360, 49, 3.0), (180, 33, 3.0), (180, 65, 3.0),
-                                     (180, 49, 1.5), (180, 49, 1000.0)):
-            gamut.HUE_BINS, gamut.FACE_NODES, gamut.REFINE_STEP_L = hue_bins, face, step
+        sd = saved[3]                                       # the default hue smoothing
+        for hue_bins, face, step, sigma in ((180, 49, 3.0, sd), (90, 49, 3.0, sd), (360, 49, 3.0, sd), (180, 33, 3.0, sd),
+                                            (180, 65, 3.0, sd), (180, 49, 1.5, sd), (180, 49, 1000.0, sd),
+                                            (180, 49, 3.0, sd / 2), (180, 49, 3.0, 2 * sd)):
+            gamut.HUE_BINS, gamut.FACE_NODES, gamut.REFINE_STEP_L, gamut.HUE_SMOOTHING_BINS = hue_bins, face, step, sigma
             t0 = time.perf_counter()
             s = build_separator(settings, printed)
             dt = time.perf_counter() - t0
             _, nodes = SeparationLUT.build(s, 17)
             miss = nodes.delta_e76 > 0.5
             cc, _ = s.separate_srgb(rgb8 / 255.0)
-            print(f"   {hue_bins:3d} slices, {face:2d} face nodes, check {'off' if step > 100 else f'{step:g} L*':7s}: "
-                  f"{dt:5.1f} s; missed {miss.mean():6.1%} (max {nodes.delta_e76.max():.2f}); "
+            print(f"   {hue_bins:3d} slices, {face:2d} face nodes, check {'off' if step > 100 else f'{step:g} L*':7s}, "
+                  f"σ {sigma:4.2f}: {dt:5.1f} s; missed {miss.mean():6.1%} (max {nodes.delta_e76.max():.2f}); "
                   f"CC {delta_e2000(cc.printed_lab, ref).mean():.2f}")
     finally:
-        gamut.HUE_BINS, gamut.FACE_NODES, gamut.REFINE_STEP_L = saved
+        gamut.HUE_BINS, gamut.FACE_NODES, gamut.REFINE_STEP_L, gamut.HUE_SMOOTHING_BINS = saved
 
 
 def main(argv=None) -> None:

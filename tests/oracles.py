@@ -12,7 +12,9 @@ arrays are read):
   coverage model, its delta lobe (selection probability and weight), its directional albedo;
 - polarisation: the Mueller matrix of a Jones matrix diag(a_s, a_p);
 - ellipsoids: the depolarisation factor by its integral, the shape matrix of a spheroid, Perram & Wertheim's overlap function, the distance
-  of two ellipsoids by constrained minimisation.
+  of two ellipsoids by constrained minimisation;
+- a print's gamut: the largest chroma at a lightness and hue, by brute force over the 2-D faces
+  of the coverage polytope (the print model and the hue function passed in).
 
 Conventions as the solver's (docs/design.md §1, §4): nm, radians, e^(−iωt), z downward.
 """
@@ -296,3 +298,85 @@ def ellipsoid_distance(d, m_a, m_b) -> float:
                    jac=lambda z: np.concatenate([2.0 * (z[:3] - z[3:]), -2.0 * (z[:3] - z[3:])]),
                    constraints=cons, method="SLSQP", options={"ftol": 1e-16, "maxiter": 500})
     return scale * math.sqrt(max(res.fun, 0.0))
+
+
+# ------------------------------------------------------------------------------ a print's gamut
+def _polytope_faces(n_inks: int, tac: float, nodes: int) -> np.ndarray:
+    """Coverages [F, nodes, nodes, k] on every 2-D face of {c ∈ [0, 1]^k, Σc ≤ tac}: faces of
+    the cube (two inks free, the others 0 or 1) and faces on the limit (two inks free, one
+    ink taking the rest of the limit, the others 0 or 1); nodes outside the polytope are NaN."""
+    from itertools import combinations, product
+
+    u = np.linspace(0.0, 1.0, nodes)
+    a, b = np.meshgrid(u, u, indexing="ij")
+    faces = []
+    for i, j in combinations(range(n_inks), 2):
+        rest = [m for m in range(n_inks) if m not in (i, j)]
+        for fixed in product((0.0, 1.0), repeat=len(rest)):
+            c = np.zeros((nodes, nodes, n_inks))
+            c[..., i], c[..., j] = a, b
+            c[..., rest] = fixed
+            faces.append(c)
+        for m in rest:                       # ink m takes the rest of the limit
+            others = [x for x in rest if x != m]
+            for fixed in product((0.0, 1.0), repeat=len(others)):
+                c = np.zeros((nodes, nodes, n_inks))
+                c[..., i], c[..., j] = a, b
+                c[..., others] = fixed
+                c[..., m] = tac - a - b - sum(fixed)
+                faces.append(c)
+    c = np.stack(faces)
+    bad = (c.sum(-1) > tac + 1e-9) | (c < -1e-9).any(-1) | (c > 1 + 1e-9).any(-1)
+    c[bad] = np.nan
+    return c
+
+
+def gamut_chroma_max(lab_of, hue_of, n_inks: int, tac: float, L, h_deg, nodes: int = 65) -> np.ndarray:
+    """The largest chroma C* a print reaches at lightness L* and hue h (degrees), [N], by brute
+    force: the print's gamut is bounded by the images of the 2-D faces of its coverage
+    polytope (`_polytope_faces`); each face is sampled on a nodes × nodes grid, cut into
+    triangles, and the colour's (L*, h) located in every triangle (barycentric, piecewise
+    linear): the largest C* of those that contain it (0 where none does). `lab_of`: coverages
+    [..., k] → CIELAB; `hue_of`: CIELAB → the hue of the slices (degrees)."""
+    c = _polytope_faces(n_inks, tac, nodes)
+    ok = ~np.isnan(c[..., 0])
+    lab = np.full(c.shape[:-1] + (3,), np.nan)
+    lab[ok] = lab_of(c[ok])
+    Lg, Cg = lab[..., 0], np.hypot(lab[..., 1], lab[..., 2])
+    hg = np.full(Lg.shape, np.nan)
+    hg[ok] = hue_of(lab[ok])
+    tris = []
+    for (di, dj), (ei, ej) in (((1, 0), (1, 1)), ((1, 1), (0, 1))):        # two triangles per cell
+        idx = lambda oi, oj: (slice(None), slice(oi, nodes - 1 + oi), slice(oj, nodes - 1 + oj))  # noqa: E731
+        tris.append(np.stack([np.stack([g[idx(0, 0)], g[idx(di, dj)], g[idx(ei, ej)]], -1)
+                              for g in (Lg, Cg, hg)], -1).reshape(-1, 3, 3))
+    t = np.concatenate(tris)                                   # [T, vertex, (L, C, h)]
+    t = t[~np.isnan(t).any(axis=(1, 2)) & (t[:, :, 1].min(axis=1) > 1.0)]   # hue defined
+    h0 = t[:, 0, 2]
+    dh = (t[:, :, 2] - h0[:, None] + 180.0) % 360.0 - 180.0     # hues unwrapped about vertex 0
+    t = t[np.abs(dh).max(axis=1) < 30.0]
+    dh = dh[np.abs(dh).max(axis=1) < 30.0]
+    h0 = t[:, 0, 2]
+    lo, hi = np.floor(h0 + dh.min(axis=1)).astype(int), np.floor(h0 + dh.max(axis=1)).astype(int)
+    L, h_deg = np.broadcast_arrays(np.asarray(L, dtype=np.float64), np.asarray(h_deg, dtype=np.float64))
+    out = np.zeros(L.shape)
+    bins = np.floor(h_deg % 360.0).astype(int)
+    for b in np.unique(bins):
+        cand = t[((lo <= b) & (hi >= b)) | ((lo <= b + 360) & (hi >= b + 360)) | ((lo <= b - 360) & (hi >= b - 360))]
+        if cand.size == 0:
+            continue
+        sel = np.flatnonzero(bins == b)
+        # (L, h) of each target in each candidate triangle's coordinates
+        hv = (cand[None, :, :, 2] - h_deg[sel, None, None] + 180.0) % 360.0 - 180.0   # [n, T, 3]
+        Lv = cand[None, :, :, 0] - L[sel, None, None]
+        x1, y1 = Lv[..., 1] - Lv[..., 0], hv[..., 1] - hv[..., 0]
+        x2, y2 = Lv[..., 2] - Lv[..., 0], hv[..., 2] - hv[..., 0]
+        det = x1 * y2 - x2 * y1
+        safe = np.where(np.abs(det) > 1e-12, det, 1.0)
+        p, q = -Lv[..., 0], -hv[..., 0]
+        s = (p * y2 - x2 * q) / safe
+        r = (x1 * q - p * y1) / safe
+        inside = (np.abs(det) > 1e-12) & (s >= 0) & (r >= 0) & (s + r <= 1)
+        C = cand[None, :, 0, 1] + s * (cand[None, :, 1, 1] - cand[None, :, 0, 1]) + r * (cand[None, :, 2, 1] - cand[None, :, 0, 1])
+        out[sel] = np.max(np.where(inside, C, 0.0), axis=1)
+    return out

@@ -111,6 +111,8 @@ def test_ordinary_failures_are_one_line_without_traceback(tmp_path, monkeypatch,
         (["--ink", "R15", "-o", str(tmp_path / "t.npz")], {"INKBSDF_CACHE": str(a_file)}, "is a file, not a folder"),
         (["--ink", "R15", "--cache", "/proc/inkbsdf_cache", "-o", str(tmp_path / "t.npz")], None,
          "cannot be created"),
+        (["--ink", "R15", "--cache", "/proc", "-o", str(tmp_path / "t.npz")], None,   # exists, not writable
+         "/proc is not writable"),
         (SMALL + ["--scheduler", "tcp://127.0.0.1:9", "-o", str(tmp_path / "t.npz")], None,
          "cannot reach the Dask scheduler"),
         (["--ink", "R15", "--grid", "1", "1", "1", "--particles", "sphere:100", "-o", "x.npz"], None, "--grid"),

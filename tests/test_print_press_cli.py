@@ -128,6 +128,45 @@ def test_bad_press_options_one_line(tmp_path, capsys, extra, word):
     assert not (tmp_path / "p.xml").exists()
 
 
+BAD_BLACK = [(["--black-strength", "2"], "--black-strength: give a share in [0, 1], got 2"),
+             (["--black-strength", "-0.1"], "--black-strength: give a share in [0, 1], got -0.1"),
+             (["--black-start", "1"], "--black-start: give a share in [0, 1), got 1"),
+             (["--tac", "50"], "--tac: give a total area coverage limit in [100, 400] percent, got 50"),
+             (["--tac", "450"], "--tac: give a total area coverage limit in [100, 400] percent, got 450")]
+
+
+@pytest.mark.parametrize("extra,message", BAD_BLACK, ids=[" ".join(b[0]) for b in BAD_BLACK])
+def test_bad_black_values_name_option_range_and_value(tmp_path, capsys, extra, message):
+    """The rule (black.py) says which field failed; the command names its option, the range in
+    the option's unit (percent for --tac) and the value given."""
+    from PIL import Image
+
+    Image.fromarray(np.zeros((4, 4, 3), np.uint8)).save(tmp_path / "i.png")
+    status, _, err = run([tmp_path / "i.png", "--inks", "R30,B30", *extra, "-o", tmp_path / "p.xml"], capsys)
+    lines = err.strip().splitlines()
+    assert status == 2 and len(lines) == 1 and lines[0].endswith(message), err
+
+
+def test_black_ranges_live_in_the_rule_alone(monkeypatch):
+    """The command has no copy of the ranges: move them in black.py and the options follow."""
+    import argparse
+
+    from inkbsdf.apps.print import UsageError, black_rule
+    from solver.apps.separation import black
+
+    def args(**kw):
+        base = dict(black="gcr", black_strength=0.7, black_start=0.2, tac=300.0)
+        return argparse.Namespace(**{**base, **kw})
+
+    monkeypatch.setattr(black, "TAC_BOUNDS", black.Bounds(1.0, 5.0))
+    assert black_rule(args(tac=450.0)).tac == pytest.approx(4.5)
+    monkeypatch.setattr(black, "STRENGTH_BOUNDS", black.Bounds(0.0, 0.5))
+    with pytest.raises(UsageError, match=r"^--black-strength: give a share in \[0, 0.5\], got 0.6$"):
+        black_rule(args(black_strength=0.6))
+    with pytest.raises(UsageError, match=r"^--black: give one of gcr, ucr, got 'max'$"):
+        black_rule(args(black="max"))
+
+
 def test_ink_thickness_in_the_ink_list(tmp_path, capsys):
     """'R30@500': the tables (ink and overprints) are films of 500 nm, the scene names the
     thickness for the BSDF; a bad thickness is one line."""

@@ -234,3 +234,22 @@ def test_a_thin_layer_is_warned_of_by_the_request_itself_after_validation():
         table_request("G30", thickness_nm=50.0)
         with pytest.raises(RequestError, match="--thickness"):
             table_request("G30", thickness_nm=-1.0)
+
+
+def test_a_thick_film_whose_fringes_the_default_step_misses_is_warned_about():
+    """Fringes of a film of thickness d are λ²/(2 n d) apart (n the binder's 1.558): a 20-µm
+    varnish's are 2.3 nm apart at 380 nm, so the default 10-nm step aliases its colour (a new
+    user's neutral varnish came out with a* 1.8); a print layer's (1 µm: 46 nm) and four
+    overprinted process inks' (2.4 µm: 19 nm) are sampled."""
+    import warnings
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        table_request("clear", thickness_nm=20000.0)
+        thick = [str(w.message) for w in caught]
+        caught.clear()
+        table_request("clear", thickness_nm=1000.0)
+        table_request("clear", thickness_nm=2412.0)      # four process inks overprinted: 19 nm apart
+        table_request("clear", thickness_nm=20000.0, wavelengths_nm=tuple(range(380, 781)))   # sampled finely
+        assert not caught, [str(w.message) for w in caught]
+    assert len(thick) == 1 and "2.32 nm apart at 380 nm" in thick[0] and "--wavelengths" in thick[0]

@@ -8,7 +8,7 @@ import pytest
 
 from solver.apps.separation import (BlackGeneration, GamutBoundary, GamutSettings, PrintColourModel, SeparationLUT,
                                    Separator, delta_e2000, map_to_gamut, printed_inks, separate_lab, srgb8_to_lab)
-from solver.apps.separation.black import InkingObjective, black_index, find_black
+from solver.apps.separation.black import BlackGenerationError, InkingObjective, black_index, find_black
 from solver.colour.measurement import DEFAULT, parse_measurement
 
 RYB = ("R30", "Y30", "B30")
@@ -183,6 +183,45 @@ def test_saturated_blues_keep_their_perceived_hue(process_separator):
     assert shift(cielab_kept).min() >= 6.0, shift(cielab_kept)
 
 
+def _outside_true_gamut(model, tac, lab, window_l=3.0):
+    """How far (CIELAB units, within the colour's hue slice) each colour lies outside the
+    print's true gamut: the distance in (C*, L*) to the region C* ≤ C_true(L*) of the brute-force
+    oracle (tests/oracles.py, over the coverage polytope's faces) within ±`window_l` of L*."""
+    from oracles import gamut_chroma_max
+    from solver.apps.separation.gamut import to_lch
+    from solver.colour.hue import oklab_hue
+
+    L, C, h = to_lch(lab)
+    oracle = lambda L_, h_: gamut_chroma_max(model.lab, oklab_hue, model.n_inks, tac, L_, h_, nodes=49)  # noqa: E731
+    out = np.maximum(C - oracle(L, h), 0.0)
+    far = np.flatnonzero(out > 0.05)
+    if far.size:
+        dl = np.linspace(-window_l, window_l, 25)
+        Lw = np.clip(L[far, None] + dl, 0.0, 100.0)
+        cw = oracle(Lw.ravel(), np.repeat(h[far], dl.size)).reshape(Lw.shape)
+        out[far] = np.min(np.hypot(Lw - L[far, None], np.maximum(C[far, None] - cw, 0.0)), axis=1)
+    return out
+
+
+def test_mapped_colours_lie_in_the_true_gamut(process_separator):
+    """The perceptual mapping's targets (a 13³ grid of sRGB) lie in the print's gamut as a brute
+    force finds it (tests/oracles.py: the faces of the coverage polytope, sampled independently,
+    located in each colour's hue slice), also where the gamut is concave in the slice (the
+    yellow-greens above their cusp, where a convex hull per slice put 16 % of a 17³ table's
+    nodes up to ΔE76 2.3 outside). The oracle is checked too: no separated colour lies outside it."""
+    from solver.apps.separation.colour_space import srgb_to_lab
+
+    sep = process_separator
+    tac = sep.objective.rule.tac
+    axis = np.linspace(0.0, 1.0, 13)
+    rgb = np.stack(np.meshgrid(axis, axis, axis, indexing="ij"), -1).reshape(-1, 3)
+    targets = sep.targets(srgb_to_lab(rgb, sep.model.measurement))
+    miss = _outside_true_gamut(sep.model, tac, targets)
+    assert np.mean(miss > 0.5) < 0.01 and miss.max() < 1.0, (np.mean(miss > 0.5), miss.max())
+    printed, _ = sep.separate_srgb(rgb[::7])                    # colours on the gamut's boundary too
+    assert _outside_true_gamut(sep.model, tac, printed.printed_lab).max() < 0.1   # the oracle bounds the print
+
+
 def test_colours_well_inside_are_left_alone(ryb, ryb_boundary):
     """Printable colours of mid lightness near the neutral axis (well within the knee) are
     printed as they are."""
@@ -239,9 +278,14 @@ def test_black_aim_rules():
     assert np.all(rule.aim(kn, np.full_like(kn, 0.5)) <= aim)
     ucr = BlackGeneration("ucr", strength=0.8, start=0.25)
     assert ucr.aim(np.array([0.9]), np.array([0.7]))[0] < rule.aim(np.array([0.9]), np.array([0.7]))[0]
-    for bad in (dict(mode="max"), dict(strength=1.5), dict(start=1.0), dict(tac=4.5)):
-        with pytest.raises(ValueError):
+    for bad in (dict(mode="max"), dict(strength=1.5), dict(strength=-0.1), dict(start=1.0), dict(tac=4.5),
+                dict(tac=0.5)):
+        with pytest.raises(BlackGenerationError) as info:        # a ValueError naming the field
             BlackGeneration(**bad)
+        assert isinstance(info.value, ValueError) and info.value.field == next(iter(bad))
+        assert info.value.value == next(iter(bad.values()))
+    for edge in (dict(strength=0.0), dict(strength=1.0), dict(start=0.0), dict(tac=1.0), dict(tac=4.0)):
+        BlackGeneration(**edge)                                   # the ranges' closed ends
 
 
 def test_objective_k_neutral_inverts_the_black_ramp(rybk):

@@ -60,6 +60,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = _Parser(prog="python -m inkbsdf.print", description=__doc__.split("\n\n")[0],
                 formatter_class=DefaultsFormatter)
     from solver.apps.separation import BLACK_MODES, MAPPINGS, BlackGeneration, GamutSettings
+    from solver.apps.separation.black import TAC_BOUNDS
     from solver.apps.separation.printset import DEFAULT_INK_LIST
     from solver.apps.separation.separate import DEFAULT_LUT_NODES
 
@@ -75,7 +76,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="share of the grey component printed with black, 0 (least black) to 1")
     p.add_argument("--black-start", type=float, default=black.start,
                    help="black start: the share of the black's range, in [0, 1), below which no black is printed")
-    p.add_argument("--tac", type=float, default=100 * black.tac, help="total area coverage limit, percent (100–400)")
+    p.add_argument("--tac", type=float, default=100 * black.tac,
+                   help=f"total area coverage limit, percent, in {TAC_BOUNDS.text(100.0)}")
     p.add_argument("--black-ink", default=None,
                    help="which ink is the black (an ink of --inks, or none); default: the ink whose main pigment is K, else the "
                         "darkest neutral one")
@@ -134,18 +136,27 @@ def settings_from(args):
                          gamut=gamut_settings(args), lut_nodes=lut_nodes(args))
 
 
+# BlackGeneration's fields as the command's options: (option, what it is, scale, unit); the
+# ranges themselves live in solver/apps/separation/black.py alone
+BLACK_OPTIONS = {"mode": ("--black", "a black generation", 1.0, ""),
+                 "strength": ("--black-strength", "a share", 1.0, ""),
+                 "start": ("--black-start", "a share", 1.0, ""),
+                 "tac": ("--tac", "a total area coverage limit", 100.0, " percent")}
+
+
 def black_rule(args):
     """BlackGeneration from --black, --black-strength, --black-start, --tac (UsageError naming
-    the option otherwise)."""
-    from solver.apps.separation import BlackGeneration
+    the option otherwise: the rule checks its fields, this maps its field to the option)."""
+    from solver.apps.separation import BlackGeneration, BlackGenerationError
 
-    if not 0.0 <= args.black_strength <= 1.0:
-        raise UsageError(f"--black-strength: give a share in [0, 1], got {args.black_strength:g}")
-    if not 0.0 <= args.black_start < 1.0:
-        raise UsageError(f"--black-start: give a share in [0, 1), got {args.black_start:g}")
-    if not 100.0 <= args.tac <= 400.0:
-        raise UsageError(f"--tac: give a total area coverage limit in [100, 400] percent, got {args.tac:g}")
-    return BlackGeneration(args.black, args.black_strength, args.black_start, args.tac / 100.0)
+    try:
+        return BlackGeneration(args.black, args.black_strength, args.black_start, args.tac / 100.0)
+    except BlackGenerationError as exc:
+        option, what, scale, unit = BLACK_OPTIONS[exc.field]
+        if isinstance(exc.allowed, tuple):
+            raise UsageError(f"{option}: give one of {', '.join(exc.allowed)}, got {exc.value!r}") from None
+        raise UsageError(f"{option}: give {what} in {exc.allowed.text(scale)}{unit}, "
+                         f"got {scale * exc.value:g}") from None
 
 
 def black_ink(args, inks):
@@ -168,9 +179,10 @@ def black_ink(args, inks):
 def gamut_settings(args):
     from solver.apps.separation import GamutSettings
 
-    if not 0.0 <= args.gamut_knee < 1.0:
-        raise UsageError(f"--gamut-knee: give a share in [0, 1), got {args.gamut_knee:g}")
-    return GamutSettings(knee=args.gamut_knee)
+    try:                               # the range lives in GamutSettings; the knee is all the CLI sets
+        return GamutSettings(knee=args.gamut_knee)
+    except ValueError as exc:
+        raise UsageError(f"--gamut-knee: {exc}") from None
 
 
 def lut_nodes(args) -> int:

@@ -83,8 +83,10 @@ class TableCache:
             for sub in ("tables", "parts", "locks", "geometry"):
                 (self.root / sub).mkdir(parents=True, exist_ok=True)
         except OSError as exc:
-            raise CacheError(f"{where} {self.root} cannot be created ({exc.strerror}): choose a writable "
-                             "folder with --cache or $INKBSDF_CACHE") from None
+            what = "is not writable" if self.root.is_dir() else "cannot be created"
+            raise CacheError(f"{where} {self.root} {what} ({exc.strerror}), and building a table needs to write "
+                             "to it (its tables are still served): choose a writable folder with --cache or "
+                             "$INKBSDF_CACHE") from None
         if not os.access(self.root / "tables", os.W_OK | os.X_OK):
             raise CacheError(f"{where} {self.root} is not writable: choose a writable folder with --cache "
                              "or $INKBSDF_CACHE")

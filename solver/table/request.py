@@ -35,7 +35,7 @@ from .fingerprint import code_fingerprint
 # the names and limits requests are checked against, re-exported: callers find them here
 from .options import OPTION, WAVE_OPTIONS
 from .request_checks import (MAX_ANGLES, TIERS, RequestError, ignored_on_molecular, parsed_option,  # noqa: F401
-                             thin_layers_warning, validate)
+                             thin_layers_warning, fringe_aliasing_warning, validate)
 from .schema import POLARISATIONS  # noqa: F401
 
 
@@ -381,6 +381,7 @@ def table_request(ink, particles="molecular", *, thickness_nm=None, accuracy: st
     layers = _layers(ink, particles, thickness_nm)
     molecular = all(layer.molecular for layer in layers)
     preset = ACCURACY[accuracy][0]
+    default_wavelengths = wavelengths_nm is None
     if wavelengths_nm is None or sigma_rad is None:
         default_wl, default_sigma = default_grids(accuracy, molecular)
         wavelengths_nm = default_wl if wavelengths_nm is None else wavelengths_nm
@@ -421,4 +422,8 @@ def table_request(ink, particles="molecular", *, thickness_nm=None, accuracy: st
     thin = thin_layers_warning([layer.thickness_nm for layer in layers])
     if thin:                                      # valid, but most likely µm typed as nm
         warnings.warn(thin, stacklevel=2)
+    aliased = fringe_aliasing_warning(req.thickness_nm, grids.wavelengths_nm, req.materials.binder_index)
+    if aliased and default_wavelengths and molecular:   # valid, but the default sampling misses the
+        warnings.warn(aliased, stacklevel=2)      # film's fringes (an explicit grid is the caller's choice;
+    #                                               particle inks' steps are their accuracy preset's, measured against fine)
     return req

@@ -15,7 +15,7 @@ distinct colours or a 3-D table over sRGB, report), `characterisation` (a CGATS 
 print's settings).
 """
 
-from .black import BLACK_MODES, BlackGeneration, InkingObjective, black_index
+from .black import BLACK_MODES, BlackGeneration, BlackGenerationError, InkingObjective, black_index
 from .colour_space import INTENTS, delta_e76, delta_e2000, lab_to_srgb8, srgb8_to_lab
 from .halftone import Dots, DotsError, TexelGrid, halftone_ink, parse_dots, texture_mean
 from .image import ImageError, ImageWarning, LoadedImage, read_image, read_srgb8, unique_colours, write_grey_png, write_rgb_png
@@ -27,7 +27,7 @@ from .gamut import GamutBoundary, GamutSettings, map_to_gamut
 from .separate import MAPPINGS, ImageSeparation, SeparationLUT, SeparationReport, Separator, separate_image
 from .solve import CoverageGrid, Separation, SolverSettings, separate_lab
 
-__all__ = ["AUTO_MODEL", "BLACK_MODES", "BlackGeneration", "GamutBoundary", "GamutSettings", "InkingObjective",
+__all__ = ["AUTO_MODEL", "BLACK_MODES", "BlackGeneration", "BlackGenerationError", "GamutBoundary", "GamutSettings", "InkingObjective",
            "MAPPINGS", "SeparationLUT", "Separator", "black_index", "map_to_gamut", "INTENTS", "CoverageGrid", "Dots", "DotsError", "ImageError", "ImageSeparation",
            "ImageWarning", "InkListError", "LoadedImage", "read_image", "PrintColourModel", "PrintSettings", "PrintedImage", "Separation",
            "SeparationReport", "SolverSettings", "TexelGrid", "am_threshold", "blue_noise_mask",

@@ -42,8 +42,45 @@ START_WIDTH = 0.1                # K_n over which the black curve rounds its sta
 
 
 @dataclass(frozen=True)
+class Bounds:
+    """The values a field accepts: [low, high], or [low, high) with `high_open`."""
+
+    low: float
+    high: float
+    high_open: bool = False
+
+    def __contains__(self, x) -> bool:
+        return self.low <= x and (x < self.high if self.high_open else x <= self.high)
+
+    def text(self, scale: float = 1.0) -> str:
+        """'[0, 1)' — in units of `scale` (100: a fraction shown in percent)."""
+        return f"[{scale * self.low:g}, {scale * self.high:g}{')' if self.high_open else ']'}"
+
+
+# the one home of BlackGeneration's ranges (the print command's options report them)
+STRENGTH_BOUNDS = Bounds(0.0, 1.0)                  # share of the grey component
+START_BOUNDS = Bounds(0.0, 1.0, high_open=True)     # share of the black's range
+TAC_BOUNDS = Bounds(1.0, 4.0)                       # fraction: 100–400 %
+
+
+class BlackGenerationError(ValueError):
+    """A field of `BlackGeneration` out of its range: `field` names it ('mode', 'strength',
+    'start', 'tac'), `value` is what it got, `allowed` its `Bounds` (or, for 'mode', the modes),
+    so that a command can name its own option."""
+
+    def __init__(self, field: str, value, allowed):
+        self.field, self.value, self.allowed = field, value, allowed
+        if isinstance(allowed, Bounds):
+            told = f"must lie in {allowed.text()}, got {value:g}"
+        else:
+            told = f"must be one of {', '.join(allowed)}, got {value!r}"
+        super().__init__(f"black generation: {field} {told}")
+
+
+@dataclass(frozen=True)
 class BlackGeneration:
-    """How much black a colour gets (module docstring); `tac` is a fraction (3.0 = 300 %)."""
+    """How much black a colour gets (module docstring); `tac` is a fraction (3.0 = 300 %).
+    Out-of-range fields raise `BlackGenerationError` naming the field."""
 
     mode: str = "gcr"
     strength: float = 0.7
@@ -52,13 +89,10 @@ class BlackGeneration:
 
     def __post_init__(self):
         if self.mode not in BLACK_MODES:
-            raise ValueError(f"black generation must be one of {', '.join(BLACK_MODES)}; got {self.mode!r}")
-        if not 0.0 <= self.strength <= 1.0:
-            raise ValueError(f"black strength must lie in [0, 1], got {self.strength}")
-        if not 0.0 <= self.start < 1.0:
-            raise ValueError(f"black start must lie in [0, 1), got {self.start}")
-        if not 1.0 <= self.tac <= 4.0:
-            raise ValueError(f"total area coverage limit must lie in [100, 400] %, got {100 * self.tac:g} %")
+            raise BlackGenerationError("mode", self.mode, BLACK_MODES)
+        for field, bounds in (("strength", STRENGTH_BOUNDS), ("start", START_BOUNDS), ("tac", TAC_BOUNDS)):
+            if getattr(self, field) not in bounds:
+                raise BlackGenerationError(field, getattr(self, field), bounds)
 
     def label(self) -> str:
         return f"{self.mode.upper()} strength {self.strength:g}, start {self.start:g}, TAC {100 * self.tac:g} %"

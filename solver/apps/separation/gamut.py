@@ -10,15 +10,21 @@ the light tints near paper white are sampled finely; mixes over the total area c
 scaled onto it) in CIELAB's L* and C* and Oklab's hue (the perceived hue: `to_lch`) under
 the model's measurement (45:0, D50 by default).
 Per hue slice (`HUE_BINS` slices, each gathering the samples within one slice width of its
-hue) the boundary is the convex hull of the samples in the (C*, L*) half-plane, tabulated as the
-largest chroma C_max(h, L*) on `LIGHTNESS_NODES` lightness levels, smoothed across hue (a
-Gaussian of `HUE_SMOOTHING_BINS` slices: the hulls follow the samples' scatter) and
-interpolated bilinearly (periodic in hue). Convex slices give every ray from the neutral axis one exit, so the mapping
-below is continuous; where the true gamut is concave the hull overestimates it slightly and the
-separation would take the closest printable colour there; `refined` checks the boundary against
-the print (targets on it separated, C_max scaled by the chroma reached) so that few mapped
-colours are missed (the report counts them). The cusp of a hue is the (L*, C*) of its largest
-chroma.
+hue) the boundary is the convex hull of the samples in the (C*, L*) half-plane, bounded by the
+slice's exact section of the gamut's surface: the images of the coverage polytope's 2-D faces
+(`face_grids`: the cube's, and those on the TAC limit) sampled on grids, cut into triangles
+(`_face_triangles`), each triangle the slice's hue crosses giving a segment of the section
+(`_section_chroma`). The section is concave where the gamut is: there the hull alone spans the
+concave part (above the cusp of the process inks' yellow-greens by up to 8 C*, so that 16 % of
+a 17³ table's mapped nodes were missed by up to ΔE76 2.3: benchmarks/bench_press.py, section 7).
+The boundary is tabulated as the largest chroma C_max(h, L*) on `LIGHTNESS_NODES` lightness
+levels, smoothed across hue (a Gaussian of `HUE_SMOOTHING_BINS` slices) and interpolated
+bilinearly (periodic in hue). The mapping below takes a ray's first exit, continuous in the
+colour while the slice is star-shaped about the focal point (the ramps of
+tests/test_separation_press.py stay monotone and without a notch with the process inks);
+`refined` checks the boundary against the print (targets on it separated, C_max scaled by the
+chroma reached) and the report counts the mapped colours the separation still misses. The cusp
+of a hue is the (L*, C*) of its largest chroma.
 
 **The mapping** (`map_to_gamut`, vectorised):
 
@@ -59,9 +65,11 @@ FACE_NODES = 49                 # samples per axis on each 2-D face of the cover
 RAY_STEP_DE = 1.0               # marching step along a ray (CIELAB units) before bisection
 RAY_MAX_DE = 200.0
 BISECTIONS = 20
-HUE_SMOOTHING_BINS = 1.5       # σ of the hue smoothing of C_max (slices); the cusp's L* twice that
+HUE_SMOOTHING_BINS = 0.75      # σ of the hue smoothing of C_max (slices); the cusp's L* twice that
 REFINE_STEP_L = 3.0             # L* step of the boundary's check against the print (`refined`)
 NEUTRAL_CHROMA = 3.0            # C* below which a sample counts as neutral (the print's black)
+MAX_TRIANGLE_HUE_SPAN = 30.0    # degrees: a face's triangle spanning more straddles the neutral axis
+SECTION_MIN_CHROMA = 0.5        # C* above which a face's hue counts as defined (its slice sections)
 
 
 @dataclass(frozen=True)
@@ -110,25 +118,103 @@ def _dense_ends(n: int) -> np.ndarray:
     return 0.5 - 0.5 * np.cos(np.pi * np.arange(n) / (n - 1))
 
 
-def coverage_samples(n_inks: int, tac: float) -> np.ndarray:
-    """Coverage mixes [M, k] that sample the print's gamut and its boundary (module docstring);
-    mixes whose sum exceeds `tac` are scaled onto the limit."""
-    n = GRID_NODES.get(n_inks, 9)
-    axis = _dense_ends(n)
-    parts = [np.stack(np.meshgrid(*([axis] * n_inks), indexing="ij"), -1).reshape(-1, n_inks)]
+def face_grids(n_inks: int, tac: float) -> np.ndarray:
+    """Coverages [F, FACE_NODES, FACE_NODES, k] on the 2-D faces of the coverage polytope
+    {c ∈ [0, 1]^k, Σc ≤ tac}, whose images bound the print's gamut: the cube's faces (two
+    inks free, the others 0 or 1; nodes over `tac` scaled onto it) and the faces on the limit
+    (two inks free, one taking the rest of the limit, the others 0 or 1; NaN where that ink
+    would leave [0, 1])."""
     face = _dense_ends(FACE_NODES)
-    fu, fv = (a.ravel() for a in np.meshgrid(face, face, indexing="ij"))
+    fu, fv = np.meshgrid(face, face, indexing="ij")
+    grids = []
     for i, j in combinations(range(n_inks), 2):
         others = [m for m in range(n_inks) if m not in (i, j)]
         for fixed in product((0.0, 1.0), repeat=len(others)):
-            c = np.zeros((fu.size, n_inks))
-            c[:, i], c[:, j] = fu, fv
-            for m, v in zip(others, fixed):
-                c[:, m] = v
-            parts.append(c)
-    c = np.concatenate(parts)
+            c = np.zeros(fu.shape + (n_inks,))
+            c[..., i], c[..., j] = fu, fv
+            c[..., others] = fixed
+            total = c.sum(axis=-1, keepdims=True)
+            grids.append(np.where(total > tac, c * (tac / np.maximum(total, 1e-12)), c))
+        if tac >= n_inks:
+            continue
+        for m in others:
+            rest = [x for x in others if x != m]
+            for fixed in product((0.0, 1.0), repeat=len(rest)):
+                c = np.zeros(fu.shape + (n_inks,))
+                c[..., i], c[..., j] = fu, fv
+                c[..., rest] = fixed
+                c[..., m] = tac - fu - fv - sum(fixed)
+                c[(c[..., m] < 0.0) | (c[..., m] > 1.0)] = np.nan
+                if not np.isnan(c).all():
+                    grids.append(c)
+    return np.stack(grids) if grids else np.zeros((0, FACE_NODES, FACE_NODES, n_inks))
+
+
+def coverage_samples(n_inks: int, tac: float) -> np.ndarray:
+    """Coverage mixes [M, k] on a grid that samples the print's gamut (module docstring; mixes
+    over `tac` scaled onto it); `face_grids` samples its boundary."""
+    n = GRID_NODES.get(n_inks, 9)
+    axis = _dense_ends(n)
+    c = np.stack(np.meshgrid(*([axis] * n_inks), indexing="ij"), -1).reshape(-1, n_inks)
     total = c.sum(axis=-1, keepdims=True)
     return np.where(total > tac, c * (tac / np.maximum(total, 1e-12)), c)
+
+
+def _face_triangles(L, C, h) -> np.ndarray:
+    """The faces' grids [F, n, n] of (L*, C*, hue) cut into triangles: ([T, 3 vertices, (L, C, h)],
+    the least hue [T], the hue span [T]), those with a defined hue (every vertex C* >
+    `SECTION_MIN_CHROMA`) spanning < `MAX_TRIANGLE_HUE_SPAN` of hue, the hues unwrapped about the first vertex."""
+    g = np.stack([L, C, h], -1)
+    a, b, c, d = g[:, :-1, :-1], g[:, 1:, :-1], g[:, 1:, 1:], g[:, :-1, 1:]
+    t = np.concatenate([np.stack([a, b, c], -2).reshape(-1, 3, 3), np.stack([a, c, d], -2).reshape(-1, 3, 3)])
+    t = t[~np.isnan(t).any(axis=(1, 2)) & (t[:, :, 1].min(axis=1) > SECTION_MIN_CHROMA)]
+    t[:, 1:, 2] = t[:, :1, 2] + (t[:, 1:, 2] - t[:, :1, 2] + 180.0) % 360.0 - 180.0
+    h = np.ascontiguousarray(t[:, :, 2])
+    span = h.max(axis=1) - h.min(axis=1)
+    keep = (span < MAX_TRIANGLE_HUE_SPAN) & (span > 0.0)
+    t, h_lo, span = t[keep], h.min(axis=1)[keep] % 360.0, span[keep]
+    order = np.argsort(h_lo)                                    # by least hue: a slice's candidates
+    return t[order], h_lo[order], span[order]                   # are one window (`_section_chroma`)
+
+
+def _section_chroma(tris, hue: float, levels: np.ndarray) -> np.ndarray:
+    """C_max at each of `levels` (L*, ascending) of the faces' section by the slice of hue `hue`
+    (degrees; `tris` from `_face_triangles`):
+    each triangle the slice crosses contributes the segment where its linearly interpolated hue
+    equals `hue` (the exact section of the piecewise-linear faces, concave where the gamut is);
+    −1 where no segment reaches a level."""
+    tris, h_lo, span = tris
+    hue = hue % 360.0
+    a, b = np.searchsorted(h_lo, [hue - MAX_TRIANGLE_HUE_SPAN, hue], side="right")
+    cand = np.arange(a, b)
+    if hue < MAX_TRIANGLE_HUE_SPAN:                                  # the window wraps around 0°
+        cand = np.r_[cand, np.arange(np.searchsorted(h_lo, hue - MAX_TRIANGLE_HUE_SPAN + 360.0), h_lo.size)]
+    t = tris[cand[(hue - h_lo[cand]) % 360.0 <= span[cand]]]
+    hv = (t[:, :1, 2] - hue + 180.0) % 360.0 - 180.0 + (t[:, :, 2] - t[:, :1, 2])    # hue − slice, unwrapped
+    out = np.full(levels.size, -1.0)
+    if t.shape[0] == 0:
+        return out
+    ends = []
+    for i, j in ((0, 1), (1, 2), (2, 0)):                     # where each edge crosses the hue
+        hi, hj = hv[:, i], hv[:, j]
+        cross = ((hi <= 0.0) & (hj >= 0.0) | (hi >= 0.0) & (hj <= 0.0)) & (hi != hj)
+        w = np.where(cross, hi / np.where(hi != hj, hi - hj, 1.0), np.nan)
+        ends.append(t[:, i, :2] + w[:, None] * (t[:, j, :2] - t[:, i, :2]))      # (L, C) or NaN
+    ends = np.stack(ends, 1)                                      # [S, 3 edges, 2]
+    ok = ~np.isnan(ends[:, :, 0])
+    first = np.argmax(ok, axis=1)
+    last = 2 - np.argmax(ok[:, ::-1], axis=1)
+    p, q = ends[np.arange(len(ends)), first], ends[np.arange(len(ends)), last]
+    lo, hi = np.minimum(p[:, 0], q[:, 0]), np.maximum(p[:, 0], q[:, 0])
+    first_level = np.searchsorted(levels, lo, side="left")          # `levels` ascending
+    count = np.searchsorted(levels, hi, side="right") - first_level
+    seg = np.repeat(np.arange(lo.size), count)                       # each segment × its levels
+    k = first_level[seg] + np.arange(seg.size) - np.repeat(np.cumsum(count) - count, count)
+    dl = q[seg, 0] - p[seg, 0]
+    u = np.where(dl != 0.0, (levels[k] - p[seg, 0]) / np.where(dl != 0.0, dl, 1.0), 0.0)
+    c = np.where(dl != 0.0, p[seg, 1] + u * (q[seg, 1] - p[seg, 1]), np.maximum(p[seg, 1], q[seg, 1]))
+    np.maximum.at(out, k, c)
+    return out
 
 
 def _hull_chroma(C, L, levels, black_l: float, white_l: float) -> np.ndarray:
@@ -167,12 +253,21 @@ class GamutBoundary:
     def build(cls, model, tac: float = float("inf")) -> "GamutBoundary":
         """The gamut of `model` (PrintColourModel) under the total area coverage limit `tac`
         (fraction: 3.0 = 300 %)."""
-        c = coverage_samples(model.n_inks, tac)
-        L, C, h = to_lch(model.lab(c))
-        return cls.from_samples(L, C, h, float(model.lab(np.zeros(model.n_inks))[0]))
+        faces = face_grids(model.n_inks, tac)
+        ok = ~np.isnan(faces[..., 0])
+        lab = np.full(faces.shape[:-1] + (3,), np.nan)
+        lab[ok] = model.lab(faces[ok])
+        Lf, Cf, hf = (np.full(ok.shape, np.nan) for _ in range(3))
+        Lf[ok], Cf[ok], hf[ok] = to_lch(lab[ok])
+        L, C, h = to_lch(model.lab(coverage_samples(model.n_inks, tac)))
+        L, C, h = np.r_[L, Lf[ok]], np.r_[C, Cf[ok]], np.r_[h, hf[ok]]
+        return cls.from_samples(L, C, h, float(model.lab(np.zeros(model.n_inks))[0]), faces=(Lf, Cf, hf))
 
     @classmethod
-    def from_samples(cls, L, C, h, white_l: float) -> "GamutBoundary":
+    def from_samples(cls, L, C, h, white_l: float, faces=None) -> "GamutBoundary":
+        """The boundary of samples (L*, C*, hue) of the gamut; `faces`: (L*, C*, hue) [F, n, n] on
+        the grids of `face_grids`, whose sections by each slice bound its hull where the gamut is
+        concave (module docstring)."""
         width = 360.0 / HUE_BINS
         centres = (np.arange(HUE_BINS) + 0.5) * width
         levels = np.linspace(0.0, 100.0, LIGHTNESS_NODES)
@@ -183,6 +278,8 @@ class GamutBoundary:
         order = np.argsort(h)
         hs, Ls, Cs = h[order], L[order], C[order]
         hs3 = np.concatenate([hs - 360.0, hs, hs + 360.0])          # windows that wrap around 0°
+        tris = _face_triangles(*faces) if faces is not None else None
+        inside = (levels >= black_l) & (levels <= white_l)
         for j, hc in enumerate(centres):
             lo, hi = np.searchsorted(hs3, [hc - width, hc + width], side="left")
             sel = np.arange(lo, hi) % hs.size
@@ -192,9 +289,15 @@ class GamutBoundary:
             dh = np.abs((hs[sel] - hc + 180.0) % 360.0 - 180.0)
             proj = Cs[sel] * np.cos(np.radians(dh))             # the samples' chroma along the slice
             cmax[j] = _hull_chroma(proj, Ls[sel], levels, black_l, white_l)
+            if tris is not None:              # the faces' section: concave where the gamut is
+                section = _section_chroma(tris, hc, levels[inside])
+                known = section >= 0.0    # levels no face reaches with a defined hue: toward the
+                if known.any():           # neutral axis's ends (the print's black and white)
+                    section = np.interp(levels[inside], np.r_[black_l, levels[inside][known], white_l],
+                                        np.r_[0.0, section[known], 0.0])
+                    cmax[j, inside] = np.minimum(cmax[j, inside], section)
         # smooth across hue (a circular Gaussian of HUE_SMOOTHING_BINS): the slices' hulls follow
-        # the samples' scatter; a mean of concave profiles is concave, so slices stay convex
-        inside = (levels >= black_l) & (levels <= white_l)
+        # the samples' scatter
         cmax[:, inside] = _smooth_hue(np.maximum(cmax[:, inside], 0.0), HUE_SMOOTHING_BINS)
         cmax[:, levels < black_l] = np.minimum(cmax[:, levels < black_l], -1.0)
         cmax[:, (levels >= black_l) & (levels <= white_l)] = np.maximum(

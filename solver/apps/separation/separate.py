@@ -173,8 +173,8 @@ class SeparationReport:
         if self.residual_pixels:
             what = "table nodes" if self.lut_nodes else "pixels"
             out.append(f"{self.residual_pixels:,} {what} miss their mapped colour by more than ΔE76 "
-                       f"{self.gamut_de:g} (max {self.residual_max_de76:.2f}): the print's gamut is not "
-                       "convex there, they take the closest printable colour")
+                       f"{self.gamut_de:g} (max {self.residual_max_de76:.2f}): the separation found no closer "
+                       "colour (its starts miss them, or the gamut's boundary is overestimated there)")
         return out
 
 
