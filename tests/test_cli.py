@@ -45,6 +45,15 @@ def test_build_and_show(tmp_path, capsys):
     (["show", "missing.npz"], "not found"),
     (["build", "--ink", "G30", "--local-field", "--no-local-field", "-o", "x.npz"], "not allowed with"),
     (["geometry", "--ink", "Y15", "--particles", "sphere:100", "--z", "5000"], "section must lie inside"),
+    (["build", "--ink", "R30", "--particles", "sphere:5000", "-o", "x.npz"],
+     "--particles: particle sphere:5000 is 5000 nm high in its orientation, larger than the layer (1000 nm): "
+     "give a smaller grain or a thicker --thickness"),
+    (["geometry", "--ink", "R30", "--particles", "sphere:600", "--cell", "1000"],
+     "--particles: particle sphere:600 spans 600 nm, too large for a 1000x1000 nm cell (needs less than half the "
+     "cell side): give a smaller grain or a larger --cell"),
+    (["geometry", "--ink", "R30", "--particles", "sphere:1500"], "a smaller grain or a thicker --thickness"),
+    (["build", "--ink", "Y15/B15", "--thickness", "800,600,400", "-o", "x.npz"],
+     "--thickness gives 3 values for 2 layers: give one value for all layers or 2, one per layer"),
 ])
 def test_bad_input_is_one_line(tmp_path, monkeypatch, capsys, args, words):
     monkeypatch.chdir(tmp_path)
@@ -74,11 +83,15 @@ def test_wavelength_range():
     ["build", "--ink", "R30", "--grid", "64", "64", "-o", "x.npz"],
     ["build", "-o", "x.npz"],
     ["paper", "fig10", "-o", "x.png"],
+    ["show", "a.npz", "b.npz"],
+    ["build", "--ink", "R30", "-o", "x.npz", "extra"],
 ])
 def test_usage_errors_are_one_line(argv, capsys):
+    """…prefixed with the subcommand, as its other errors are (arguments left over too)."""
     status, _, err = run_main(main, argv, capsys)
     lines = err.strip().splitlines()
     assert status == 2 and len(lines) == 1 and "usage:" not in err and "see --help" in lines[0]
+    assert lines[0].startswith(f"ink-tables {argv[0]}: error: "), lines
 
 
 @pytest.mark.parametrize("command", [["build"], ["paper"], ["show"], ["geometry"]])
@@ -314,3 +327,31 @@ def test_a_single_value_option_given_twice_is_refused(tmp_path, monkeypatch, cap
     lines = err.strip().splitlines()
     assert code == 2 and len(lines) == 1 and "given twice" in lines[0] and option in lines[0], err
     assert not list(tmp_path.iterdir())                      # nothing written
+
+
+def test_the_build_summary_says_what_a_born_tables_energy_closure_is(tmp_path, capsys):
+    """A Born table's closure R+T+A−1 is the first-order model's own imbalance (docs/tables.md,
+    'Energy'): the summary says so and names what vouches for it — the probe's measured
+    deviation from full solves (as stored in meta), or that none ran; a full table's closure is
+    the solver's residual."""
+    small = ["--ink", "R30", "--particles", "sphere:100", "--wavelengths", "500:560:30", "--angles", "2", "--grid",
+             "8", "8", "4", "--realizations", "2", "--azimuths", "2", "--no-progress", "--workers", "1",
+             "--cache", str(tmp_path / "cache")]
+
+    def closure_line(*extra):
+        out_path = tmp_path / f"t{len(list(tmp_path.glob('*.npz')))}.npz"
+        assert main(["build", *small, *extra, "-o", str(out_path)]) == 0
+        lines = [l.strip() for l in capsys.readouterr().out.splitlines() if "closure" in l]
+        assert len(lines) == 1 and "energy_closure" not in lines[0], lines
+        return lines[0], read_table(out_path).meta
+
+    line, meta = closure_line("--tier", "born")
+    assert meta["tier"] == "born"
+    assert line.startswith(f"energy closure {meta['errors']['energy_closure_max']:.2g} (first-order Born")
+    assert "not a solver residual" in line and "no probe measured its error" in line
+    line, meta = closure_line("--tier", "auto", "--tolerance", "0.001")   # the probe chooses Born here
+    assert meta["tier"] == "born", meta["tier_probe"]
+    assert "first-order Born" in line
+    assert f"within {meta['tier_probe']['deviation']['born']:.2g} of full solves (tolerance 0.001)" in line
+    line, meta = closure_line("--tier", "full")
+    assert "solver's residual" in line and "Born" not in line

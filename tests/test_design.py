@@ -14,6 +14,7 @@ from solver.colour.aims import AIMS, ISO12647_2_PC1, AimError, parse_aim
 from solver.colour.cie import delta_e2000
 from solver.colour.measurement import DEFAULT
 from solver.design import FilmColour, InkTemplate, Recipe, design_ink, design_paper
+from solver.design.optimise import bound_names
 from solver.design.recipe import DesignError
 from solver.inks import parse_ink
 from solver.printing.process_inks import process_inks, process_paper_albedo
@@ -63,7 +64,41 @@ def test_an_aim_out_of_reach_names_the_bound():
     aim = parse_aim("30,80,-60")[0]                      # a deep violet from the yellow pigment
     result = design_ink(aim, InkTemplate(("Y",), thickness_range_nm=(1000.0, 1000.0)), colour)
     assert not result.reached and result.de2000 > 30
-    assert result.at_bounds == ["load Y = 0 % (lower bound)"]
+    assert result.at_bounds == ["load Y = 0 % (lower bound 0 %)"]
+    # the thickness the caller fixed is a limit too, named with the option that fixed it
+    assert result.fixed == ["thickness fixed at 1000 nm by --thickness-range"]
+    assert result.limits == result.fixed + result.at_bounds
+
+
+def test_a_load_stopped_just_short_of_its_cap_is_named_and_is_the_limit():
+    """The cyan aim with the load capped at 3 %: the optimiser stops a hair short of the cap
+    (2.99 %), which is at that bound; and it is what limits: a higher cap does better."""
+    colour = FilmColour(paper=0.8762)
+    aim = AIMS["iso12647-2:PC1:cyan"]
+    capped = design_ink(aim, InkTemplate(("C",), load_range=(0.0, 0.03)), colour)
+    assert not capped.reached and capped.fixed == []
+    assert len(capped.at_bounds) == 1 and capped.at_bounds[0].startswith("load C = ")
+    assert capped.at_bounds[0].endswith("(upper bound 3 %)")
+    wider = design_ink(aim, InkTemplate(("C",), load_range=(0.0, 0.04)), colour)
+    assert wider.de2000 < capped.de2000 - 0.1
+    # a parameter well inside its range is not at a bound
+    assert bound_names(["load C"], [0.027], [(0.0, 0.03)]) == []
+
+
+def test_fixed_loads_and_thickness_design_the_one_recipe():
+    """--load-range 5 fixes every load (as --thickness-range 1000 fixes the thickness): the
+    thickness alone is free; with both fixed the result is that one film, measured directly."""
+    template = InkTemplate(("C", "M"), load_range=(0.05, 0.05))
+    assert template.names == ("thickness_nm",) and template.fixed == [
+        "load C fixed at 5 % by --load-range", "load M fixed at 5 % by --load-range"]
+    colour = FilmColour(paper=0.88)
+    aim = AIMS["iso12647-2:PC1:cyan"]
+    free_thickness = design_ink(aim, template, colour)
+    assert dict(free_thickness.recipe.loads) == {"C": 0.05, "M": 0.05}
+    one = design_ink(aim, InkTemplate(("C",), load_range=(0.05, 0.05), thickness_range_nm=(800.0, 800.0)), colour)
+    film = Recipe((("C", 0.05),), 800.0)
+    assert one.recipe == film and one.at_bounds == [] and len(one.fixed) == 2
+    assert one.de2000 == pytest.approx(float(delta_e2000(colour.lab(film), np.asarray(aim.lab))), abs=1e-9)
 
 
 def test_an_aim_best_met_by_bare_paper_is_found_at_the_bound():
@@ -104,6 +139,8 @@ def test_templates_refuse_bad_ranges_and_pigments():
         InkTemplate.of("Q")
     with pytest.raises(DesignError, match="--load-range"):
         InkTemplate(("C",), load_range=(0.3, 0.2))
+    with pytest.raises(DesignError, match="--load-range.*lower MIN"):
+        InkTemplate(("C", "M", "Y"), load_range=(0.4, 0.4))
     with pytest.raises(DesignError, match="--thickness-range"):
         InkTemplate(("C",), thickness_range_nm=(0.0, 100.0))
     assert InkTemplate.of("K+C+M").names == ("load K", "load C", "load M", "thickness_nm")
@@ -143,9 +180,25 @@ def test_cli_prints_the_recipe_and_writes_the_json(tmp_path, capsys):
     assert set(entry) >= {"recipe", "lab", "aim", "de2000"} and entry["aim"] == [55.0, -37.0, -50.0]
     assert entry["recipe"]["thickness_nm"] == 540.0 and entry["de2000"] < 3.0
     assert doc["command"] == "ink-tables design --aim iso12647-2:PC1:cyan --thickness-range 540 --paper 0.8762"
+    assert entry["fixed"] == ["thickness fixed at 540 nm by --thickness-range"]
     # the recipe printed is the recipe written: its colour measured again
     recipe = Recipe(tuple((c, p / 100) for c, p in entry["recipe"]["loads_percent"].items()), 540.0)
     assert float(delta_e2000(FilmColour(paper=0.8762).lab(recipe), np.array(entry["lab"]))) < 0.01
+
+
+def test_cli_one_value_fixes_either_range_and_is_named_as_the_limit(capsys):
+    """--load-range 5 fixes the loads as --thickness-range 1000 fixes the thickness (the help
+    says so for both); an aim out of reach names them, with their options, as its limits."""
+    code, out, err = run_main(main, ["design", "--aim", "iso12647-2:PC1:cyan", "--paper", "0.8762", "--load-range",
+                                     "5", "--thickness-range", "1000", "--tolerance", "0.5"], capsys)
+    assert code == 0, err
+    assert "recipe  C5@1000nm" in out
+    assert ("limited by: load C fixed at 5 % by --load-range; thickness fixed at 1000 nm by --thickness-range"
+            in out), out
+    code, out, _ = run_main(main, ["design", "--help"], capsys)
+    help_text = " ".join(out.split())
+    assert "pigment load (volume percent); one value fixes every load" in help_text
+    assert "thickness (nm); one value fixes it" in help_text
 
 
 def test_the_package_process_inks_print_their_recorded_colours():

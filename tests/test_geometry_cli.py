@@ -74,7 +74,8 @@ def test_realization_draws_the_cell_a_table_solves(capsys):
                  "--grid", *map(str, req.wave.grid)]) == 0
     assert lines(capsys.readouterr().out) != lines(summary(real, vox))
     for argv, words in ((["--table-seed", "3"], "--realization"), (["--realization", "-1"], "count from 0"),
-                        (["--realization", "0", "--table-seed", "-3"], "--table-seed -3"),
+                        (["--realization", "0", "--table-seed", "-3"], "--table-seed: give an integer in [0, 2^32), got -3"),
+                        (["--seed", "4294967296"], "--seed: give an integer in [0, 2^32)"),
                         (["--realization", "1", "--seed", "2"], "not allowed with")):
         try:
             rc = main(["geometry", "--ink", "Y15", "--particles", "sphere:300"] + argv)

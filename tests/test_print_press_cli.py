@@ -112,6 +112,11 @@ def test_characterisation_written_alone(tmp_path, capsys):
 
 BAD = [(["--tac", "50"], "--tac"), (["--black-strength", "2"], "--black-strength"),
        (["--black-start", "1"], "--black-start"), (["--black-ink", "Y30"], "--black-ink"),
+       (["--black-ink", "K"], "--black-ink 'K' must be an ink spec of --inks (R30, B30) or none: K is a pigment "
+                              "letter without its volume percent; no ink of --inks is made of K"),
+       (["--black-ink", "B"], "--black-ink 'B' must be an ink spec of --inks (R30, B30) or none: B is a pigment "
+                              "letter without its volume percent; the ink of --inks made of it is B30"),
+       (["--black-ink", "Q"], "--black-ink 'Q' must be an ink spec of --inks (R30, B30) or none: bad ink term 'Q'"),
        (["--lut", "1"], "--lut"), (["--gamut-knee", "1.5"], "--gamut-knee"), (["--black", "max"], "--black")]
 
 

@@ -139,6 +139,9 @@ def _bad_cases(tmp, tables, unwritable):
         "height <0": (base + ["--height", "-3"], "--height"),
         "spp 0": (base + ["--spp", "0"], "--spp"),
         "spp text": (base + ["--spp", "many"], "--spp"),
+        # Mitsuba's sampler seed is a UInt32: outside it nanobind's raw type error, not this line
+        "seed < 0": (base + ["--seed", "-1"], "--seed: give an integer in [0, 2^32), got -1"),
+        "seed ≥ 2^32": (base + ["--seed", "4294967296"], "--seed: give an integer in [0, 2^32), got 4294967296"),
         "exposure nan": (base + ["--exposure", "nan", "--png", str(tmp / "x.png")], "--exposure"),
         "exposure inf": (base + ["--exposure", "inf", "--png", str(tmp / "x.png")], "--exposure"),
         "output not exr": ([scene, "--tables", str(tables), "-o", str(tmp / "x.png")], ".exr"),

@@ -147,6 +147,7 @@ def test_code_fingerprint_hashes_the_solver_not_its_test_oracles():
     (dict(grid=(1, 1, 1)), "--grid"), (dict(grid=(3, 3, 3)), "--grid"),
     (dict(tolerance=-1.0), "--tolerance"), (dict(tolerance=math.nan), "--tolerance"),
     (dict(solver_tol=0.0), "--solver-tol"), (dict(seed=-1), "--seed"),
+    (dict(seed=2**32), r"--seed: give an integer in \[0, 2\^32\), got 4294967296"),
     (dict(realizations=0), "--realizations"), (dict(thickness_nm=math.inf), "--thickness"),
     (dict(thickness_nm=-5.0), "--thickness"), (dict(wavelengths_nm=(300.0, 500.0)), "--wavelengths"),
     (dict(wavelengths_nm=(400.0, 900.0)), "--wavelengths"), (dict(tier="thin-film"), "--tier"),

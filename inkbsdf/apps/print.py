@@ -168,11 +168,30 @@ def black_ink(args, inks):
     try:
         label = parse_ink(split_ink(args.black_ink)[0]).label
     except ValueError as exc:
-        raise UsageError(f"--black-ink: {exc}") from None
+        raise UsageError(f"--black-ink {args.black_ink!r} must be an ink spec of --inks ({', '.join(inks)}) or none: "
+                         f"{_not_an_ink(args.black_ink, inks, exc)}") from None
     if label not in [split_ink(x)[0] for x in inks]:
         raise UsageError(f"--black-ink: {args.black_ink} is not one of --inks ({', '.join(inks)}); name one "
                          "of them or none")
     return label
+
+
+def _not_an_ink(text: str, inks, exc: ValueError) -> str:
+    """Why `text` is not an ink spec: a bare pigment letter ('K') lacks its volume percent (and
+    names the ink of `inks` made of that pigment, if one is), else the ink grammar's own words."""
+    from solver.apps.separation.printset import dominant_pigment
+    from solver.inks import parse_ink
+
+    code = text.strip().upper()
+    try:
+        parse_ink(f"{code}1")
+    except ValueError:
+        return str(exc)
+    if not code.isalpha():
+        return str(exc)
+    made_of = [ink for ink in inks if dominant_pigment(ink) == code]
+    return (f"{code} is a pigment letter without its volume percent; "
+            + (f"the ink of --inks made of it is {made_of[0]}" if made_of else f"no ink of --inks is made of {code}"))
 
 
 def gamut_settings(args):

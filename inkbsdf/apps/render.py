@@ -24,6 +24,7 @@ from pathlib import Path
 
 from solver.apps.cli.parsing import DefaultsFormatter, OneLineParser, interrupted_word, run_guarded, writable_output
 from solver.interrupts import exit_status, raising
+from solver.seeds import checked_seed
 
 from inkbsdf.errors import loader_problem
 
@@ -191,7 +192,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--width", type=_positive_int, default=None, help="image width (scene default if unset)")
     p.add_argument("--height", type=_positive_int, default=None, help="image height (scene default if unset)")
     p.add_argument("--exposure", type=_finite_float, default=0.0, help="PNG exposure, stops")
-    p.add_argument("--seed", type=int, default=0, help="sampler seed")
+    p.add_argument("--seed", type=int, default=0, help="sampler seed, an integer in [0, 2^32)")
     p.add_argument("--workers", type=_positive_int, default=None,
                    help="processes for tables a scene load builds (in-scene inks; default one per core)")
     p.add_argument("--variant", default=None,
@@ -209,6 +210,7 @@ def _main(argv) -> int:
     from inkbsdf.variant import VariantError, select_variant
 
     args = build_parser().parse_args(argv)
+    checked_seed(args.seed, "--seed", UsageError)
     if not (args.output or args.png):
         raise UsageError("give -o OUT.exr (linear), --png OUT.png (sRGB), or both")
     exr = writable_output(args.output, ".exr", "-o/--output") if args.output else None

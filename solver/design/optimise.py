@@ -29,8 +29,12 @@ OVERPRINT_TARGET = 6.0
 def default_tolerance(aim) -> float:
     """The ΔE2000 within which `aim` counts as reached (by its kind)."""
     return {"paper": SOLID_TARGET, "solid": SOLID_TARGET, "overprint": OVERPRINT_TARGET}.get(aim.kind, REACHED_DE2000)
-#: a parameter closer than this (share of its range) to a bound sits at that bound
-AT_BOUND = 1e-3
+#: a parameter closer than this (share of its range) to a bound sits at that bound: L-BFGS-B
+#: with finite differences stops short of an active bound in a shallow valley (a cyan load of
+#: 2.99 % against a 3 % cap: 0.3 % of the range), so a thousandth of the range missed bounds
+AT_BOUND = 0.01
+#: a particle ink's search stops when no free parameter moves more than this share of its range
+STILL = 1e-3
 #: a particle ink's design reads (or builds) at most this many wave-optics tables
 PARTICLE_TABLES = 4
 #: the coarse grid's size (points in all) and how many of its best points start a local search
@@ -46,7 +50,7 @@ class DesignResult:
     recipe: Recipe | None                         # None for the paper white and an overprint
     lab: np.ndarray
     de2000: float
-    at_bounds: list[str] = field(default_factory=list)
+    at_bounds: list[str] = field(default_factory=list)   # free parameters at a bound (`bound_names`)
     paper: float | None = None                    # the paper albedo (designed for the paper white)
     seconds: float = 0.0
     films: int = 0
@@ -54,6 +58,12 @@ class DesignResult:
     stack: tuple[Recipe, ...] = ()                # an overprint's inks, top first
     tolerance: float | None = None                # ΔE2000 of "reached" (None: default_tolerance)
     particle_tables: int = 0                      # wave-optics tables built or read (particle inks)
+    fixed: list[str] = field(default_factory=list)  # parameters the user fixed (`InkTemplate.fixed`)
+
+    @property
+    def limits(self) -> list[str]:
+        """What stops a recipe short of its aim: the fixed parameters, then those at a bound."""
+        return list(self.fixed) + list(self.at_bounds)
 
     @property
     def recipe_label(self) -> str:
@@ -74,19 +84,20 @@ class DesignResult:
             recipe = self.recipe.to_json()
         return {"recipe": recipe, "lab": [round(float(v), 3) for v in self.lab],
                 "aim": [float(v) for v in self.aim.lab], "de2000": round(float(self.de2000), 4),
-                "at_bounds": list(self.at_bounds)}
+                "at_bounds": list(self.at_bounds), "fixed": list(self.fixed)}
 
 
 def bound_names(names, x, bounds) -> list[str]:
-    """'thickness_nm = 2000 (upper)' for each parameter at a bound."""
+    """'load C = 2.99 % (upper bound 3 %)' for each parameter within AT_BOUND of its range
+    from a bound."""
     out = []
     for name, v, (lo, hi) in zip(names, x, bounds):
         span = hi - lo
         scale, unit = (100.0, " %") if name.startswith("load") else (1.0, " nm" if name.endswith("_nm") else "")
-        if v <= lo + AT_BOUND * span:
-            out.append(f"{name} = {scale * lo:g}{unit} (lower bound)")
-        elif v >= hi - AT_BOUND * span:
-            out.append(f"{name} = {scale * hi:g}{unit} (upper bound)")
+        for side, edge, near in (("lower", lo, v <= lo + AT_BOUND * span), ("upper", hi, v >= hi - AT_BOUND * span)):
+            if near:
+                out.append(f"{name} = {scale * v:.4g}{unit} ({side} bound {scale * edge:g}{unit})")
+                break
     return out
 
 
@@ -96,6 +107,10 @@ def minimise_de(colour_of, aim_lab, bounds: np.ndarray, feasible=lambda x: True,
     aim = np.asarray(aim_lab, dtype=float)
     lo, span = bounds[:, 0], bounds[:, 1] - bounds[:, 0]
     count = [0]
+    if not len(lo):                                   # every parameter fixed: the one recipe
+        x = lo.copy()
+        value = float(delta_e2000(colour_of(x), aim)) if feasible(x) else np.inf
+        return x, value, 1
 
     def de(u):
         x = lo + np.clip(u, 0.0, 1.0) * span
@@ -139,7 +154,7 @@ def design_ink(aim, template: InkTemplate, colour: FilmColour, tolerance: float 
                            template.feasible)
     recipe = template.recipe(x)
     return DesignResult(aim, recipe, colour.lab(recipe), de, bound_names(template.names, x, template.bounds()),
-                        colour.paper, time.perf_counter() - t0, colour.films - films0, n)
+                        colour.paper, time.perf_counter() - t0, colour.films - films0, n, fixed=template.fixed)
 
 
 def design_particle_ink(aim, template: InkTemplate, colour: FilmColour,
@@ -162,7 +177,7 @@ def design_particle_ink(aim, template: InkTemplate, colour: FilmColour,
         x_new, _, n = minimise_de(lambda v: colour.lab(molecular.recipe(v)) + offset, aim.lab, bounds,
                                   template.feasible, start=x)
         evaluations += n
-        if x is not None and np.all(np.abs(x_new - x) <= AT_BOUND * (bounds[:, 1] - bounds[:, 0])):
+        if x is not None and np.all(np.abs(x_new - x) <= STILL * (bounds[:, 1] - bounds[:, 0])):
             break
         x = x_new
         lab = colour.lab(template.recipe(x))
@@ -175,7 +190,7 @@ def design_particle_ink(aim, template: InkTemplate, colour: FilmColour,
     x, de, lab = best
     return DesignResult(aim, template.recipe(x), lab, de, bound_names(template.names, x, bounds), colour.paper,
                         time.perf_counter() - t0, colour.films - films0, evaluations,
-                        particle_tables=colour.wave_tables + colour.reads - waves0 - reads0)
+                        particle_tables=colour.wave_tables + colour.reads - waves0 - reads0, fixed=template.fixed)
 
 
 def design_paper(aim, colour: FilmColour, wavelengths_nm, albedo_range=PAPER_RANGE) -> DesignResult:

@@ -79,7 +79,9 @@ def _refine_jointly(results, templates, overprints, colour: FilmColour, progress
     sizes = [len(templates[n].bounds()) for n in names]
     bounds = np.vstack([templates[n].bounds() for n in names])
     lo, span = bounds[:, 0], bounds[:, 1] - bounds[:, 0]
-    x0 = np.concatenate([_params(results[n].recipe, templates[n]) for n in names])
+    if not len(bounds):                               # every parameter fixed: nothing to refine
+        return
+    x0 = np.concatenate([templates[n].params(results[n].recipe) for n in names])
     t0, films0, count = time.perf_counter(), colour.films, [0]
 
     def recipes(u):
@@ -111,7 +113,7 @@ def _refine_jointly(results, templates, overprints, colour: FilmColour, progress
             old = results[n]
             results[n] = DesignResult(old.aim, rec[n], lab, float(delta_e2000(lab, np.asarray(old.aim.lab))),
                                       bound_names(templates[n].names, p, templates[n].bounds()), colour.paper,
-                                      old.seconds, old.films, old.evaluations)
+                                      old.seconds, old.films, old.evaluations, fixed=templates[n].fixed)
     seconds = time.perf_counter() - t0
     for n in names:
         results[n].seconds += seconds / len(names)
@@ -120,10 +122,3 @@ def _refine_jointly(results, templates, overprints, colour: FilmColour, progress
     progress(f"joint refinement of {', '.join(names)}: cost {before:.3f} → {min(res.fun, before):.3f} "
              f"({count[0]} evaluations, {seconds:.1f} s)")
 
-
-def _params(recipe, template: InkTemplate) -> np.ndarray:
-    loads = dict(recipe.loads)
-    x = [loads[c] for c in template.pigments]
-    if template.thickness_free:
-        x.append(recipe.thickness_nm)
-    return np.array(x, dtype=float)

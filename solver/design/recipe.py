@@ -59,7 +59,8 @@ class Recipe:
 @dataclass(frozen=True)
 class InkTemplate:
     """The free parameters of an ink design: one load per pigment, and the layer thickness
-    (free within its range, or fixed when the range is one value)."""
+    (each free within its range, or fixed when the range is one value: `--load-range 5`,
+    `--thickness-range 1000`)."""
 
     pigments: tuple[str, ...]
     load_range: tuple[float, float] = LOAD_RANGE
@@ -68,13 +69,16 @@ class InkTemplate:
 
     def __post_init__(self):
         lo, hi = self.load_range
-        if not (0.0 <= lo < hi <= 1.0):
-            raise DesignError(f"--load-range {100 * lo:g},{100 * hi:g}: need 0 ≤ MIN < MAX ≤ 100 (percent)")
+        if not (0.0 <= lo <= hi <= 1.0):
+            raise DesignError(f"--load-range {100 * lo:g},{100 * hi:g}: need 0 ≤ MIN ≤ MAX ≤ 100 (percent), "
+                              "or one value to fix the loads")
         tlo, thi = self.thickness_range_nm
         if not (0.0 < tlo <= thi):
-            raise DesignError(f"--thickness-range {tlo:g},{thi:g}: need 0 < MIN ≤ MAX (nm)")
+            raise DesignError(f"--thickness-range {tlo:g},{thi:g}: need 0 < MIN ≤ MAX (nm), "
+                              "or one value to fix the thickness")
         if lo * len(self.pigments) > 1.0:
-            raise DesignError("--load-range: the pigments' least loads already exceed 100 %")
+            raise DesignError(f"--load-range: the pigments' least loads ({len(self.pigments)} × {100 * lo:g} %) "
+                              "already exceed 100 %: lower MIN")
 
     @classmethod
     def of(cls, pigments: str, **kw) -> "InkTemplate":
@@ -89,24 +93,48 @@ class InkTemplate:
     @property
     def names(self) -> tuple[str, ...]:
         """The free parameters' names, in the order of `bounds`."""
-        return tuple(f"load {c}" for c in self.pigments) + (("thickness_nm",) if self.thickness_free else ())
+        return ((tuple(f"load {c}" for c in self.pigments) if self.loads_free else ())
+                + (("thickness_nm",) if self.thickness_free else ()))
+
+    @property
+    def loads_free(self) -> bool:
+        return self.load_range[1] > self.load_range[0]
 
     @property
     def thickness_free(self) -> bool:
         return self.thickness_range_nm[1] > self.thickness_range_nm[0]
 
+    @property
+    def fixed(self) -> list[str]:
+        """The parameters the user fixed, each with the option that fixed it ('thickness fixed at
+        1000 nm by --thickness-range'): limits of a design as real as a bound."""
+        out = [] if self.loads_free else [
+            f"load {c} fixed at {100 * self.load_range[0]:g} % by --load-range" for c in self.pigments]
+        if not self.thickness_free:
+            out.append(f"thickness fixed at {self.thickness_range_nm[0]:g} nm by --thickness-range")
+        return out
+
     def bounds(self) -> np.ndarray:
-        """[n, 2] lower and upper bounds of the free parameters (fractions, nm)."""
-        rows = [self.load_range] * len(self.pigments)
+        """[n, 2] lower and upper bounds of the free parameters (fractions, nm); n may be 0."""
+        rows = [self.load_range] * len(self.pigments) if self.loads_free else []
         if self.thickness_free:
             rows.append(self.thickness_range_nm)
-        return np.array(rows, dtype=float)
+        return np.array(rows, dtype=float).reshape(-1, 2)
 
     def recipe(self, x) -> Recipe:
-        x = np.asarray(x, dtype=float)
-        loads = tuple((c, float(f)) for c, f in zip(self.pigments, x))
-        thickness = float(x[len(self.pigments)]) if self.thickness_free else self.thickness_range_nm[0]
-        return Recipe(loads, thickness, self.particles)
+        x = list(np.asarray(x, dtype=float))
+        fractions = x[:len(self.pigments)] if self.loads_free else [self.load_range[0]] * len(self.pigments)
+        thickness = x[-1] if self.thickness_free else self.thickness_range_nm[0]
+        return Recipe(tuple((c, float(f)) for c, f in zip(self.pigments, fractions)), float(thickness),
+                      self.particles)
+
+    def params(self, recipe: Recipe) -> np.ndarray:
+        """The free parameters of `recipe` (the inverse of `recipe`)."""
+        loads = dict(recipe.loads)
+        x = [loads[c] for c in self.pigments] if self.loads_free else []
+        if self.thickness_free:
+            x.append(recipe.thickness_nm)
+        return np.array(x, dtype=float)
 
     def start(self) -> np.ndarray:
         """A feasible middle point: loads at a tenth of their range, thickness 1 µm if allowed."""
@@ -118,4 +146,4 @@ class InkTemplate:
 
     def feasible(self, x) -> bool:
         """The total load stays within 100 %."""
-        return float(np.sum(np.asarray(x)[:len(self.pigments)])) <= 1.0
+        return sum(f for _, f in self.recipe(x).loads) <= 1.0

@@ -345,7 +345,8 @@ def _layers(ink, particles, thickness_nm) -> tuple[Layer, ...]:
              for p in parts]
     thick = thickness_nm if isinstance(thickness_nm, (tuple, list)) else [thickness_nm] * len(inks)
     if len(thick) != len(inks):
-        raise RequestError(f"--thickness gives {len(thick)} values for {len(inks)} layers")
+        raise RequestError(f"--thickness gives {len(thick)} values for {len(inks)} layers: give one value for all "
+                           f"layers or {len(inks)}, one per layer (top first)")
     layers = []
     for ink_, spec, h in zip(inks, specs, thick):
         h = DEFAULT_THICKNESS_NM if h is None else h

@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..geometry.stacking import split_cells
+from ..seeds import checked_seed
 from .options import OPTION
 from .schema import POLARISATIONS
 
@@ -49,6 +50,19 @@ def refuse_grains_without_pigment(ink, particles) -> None:
     if particles is not None and not ink.components:
         raise RequestError(f"--particles {particles.label}: 'clear' has no pigment to make grains "
                            "of; use --particles molecular")
+
+
+def checked_layer(ink, particles, thickness_nm: float, cell_nm: tuple[float, float]):
+    """The geometry.LayerSpec of a particle layer, its refusal (a grain taller than the layer,
+    or spanning half the cell) told with the options and the fix."""
+    from ..geometry.spec import GeometryError, LayerSpec
+
+    try:
+        return LayerSpec(ink, particles, thickness_nm=thickness_nm, cell_nm=cell_nm)
+    except GeometryError as exc:
+        tall = particles.max_height_nm(particles.max_diameter_nm) > thickness_nm
+        fix = f"a thicker {OPTION['thickness_nm']}" if tall else f"a larger {OPTION['cell_nm']}"
+        raise RequestError(f"{OPTION['particles']}: {exc}: give a smaller grain or {fix}") from None
 
 
 def ignored_on_molecular(what: str, options) -> str:
@@ -126,6 +140,9 @@ def validate(req: TableRequest) -> None:
         except ValueError as exc:
             raise RequestError(str(exc)) from None
     _finite_positive(w.cell_nm, f"{OPTION['cell_nm']} (cell period, nm)")
+    for layer in req.layers:
+        if layer.particles is not None:
+            checked_layer(layer.ink, layer.particles, layer.thickness_nm, (w.cell_nm, w.cell_nm))
     if len(w.grid) != 3 or any(not isinstance(n, (int, np.integer)) for n in w.grid) \
             or any(n < m for n, m in zip(w.grid, MIN_GRID)):
         raise RequestError(f"{OPTION['grid']} {' '.join(map(str, w.grid))}: need at least "
@@ -147,8 +164,7 @@ def validate(req: TableRequest) -> None:
     if not isinstance(w.max_realizations, (int, np.integer)) or w.max_realizations < w.realizations:
         raise RequestError(f"{OPTION['max_realizations']} must be an integer ≥ --realizations "
                            f"({w.realizations}), got {w.max_realizations!r}")
-    if not isinstance(w.seed, (int, np.integer)) or w.seed < 0:
-        raise RequestError(f"{OPTION['seed']} must be an integer ≥ 0, got {w.seed!r}")
+    checked_seed(w.seed, OPTION["seed"], RequestError)
     if w.tier not in TIERS:
         raise RequestError(f"{OPTION['tier']} {w.tier!r}: choose one of {', '.join(TIERS)}")
     if w.tier == "thin-film":

@@ -30,7 +30,7 @@ def _pair(text: str, option: str, unit: str) -> tuple[float, float]:
     if len(values) == 1:
         values = values * 2
     if len(values) != 2 or not all(v == v and abs(v) != float("inf") for v in values) or values[0] > values[1]:
-        raise DesignError(f"{option} {text!r}: give MIN,MAX ({unit}, MIN ≤ MAX) or one value to fix it")
+        raise DesignError(f"{option} {text!r}: give MIN,MAX ({unit}, MIN ≤ MAX), or one value to fix it")
     return values[0], values[1]
 
 
@@ -44,7 +44,7 @@ def add_parser(sub) -> None:
                         + ", ".join(f"{k} {'+'.join(v)}" for k, v in PROCESS_PIGMENTS.items())
                         + "; required for L,a,b aims)")
     p.add_argument("--load-range", default=f"{100 * LOAD_RANGE[0]:g},{100 * LOAD_RANGE[1]:g}", metavar="MIN,MAX",
-                   help="range of each pigment load (volume percent)")
+                   help="range of each pigment load (volume percent); one value fixes every load")
     p.add_argument("--thickness-range", default=f"{THICKNESS_RANGE_NM[0]:g},{THICKNESS_RANGE_NM[1]:g}",
                    metavar="MIN,MAX", help="range of the layer thickness (nm); one value fixes it")
     p.add_argument("--particles", default="molecular",
@@ -157,7 +157,8 @@ def _with_solids(aims):
 
 
 def report_lines(result, measurement_label: str) -> str:
-    """Recipe, colour, ΔE2000, cost; for an aim out of reach, the parameters at their bounds."""
+    """Recipe, colour, ΔE2000, cost; for an aim out of reach, what limits it: the parameters the
+    user fixed and those at their bounds."""
     lab, aim = result.lab, result.aim.lab
     lines = [f"{result.aim.name}: aim L*a*b* ({aim[0]:.1f}, {aim[1]:.1f}, {aim[2]:.1f}), {measurement_label}",
              f"  recipe  {result.recipe_label}" + (f"  on paper albedo {result.paper:.4f}"
@@ -171,7 +172,7 @@ def report_lines(result, measurement_label: str) -> str:
             lines.append(f"  out of reach: ΔE2000 {result.de2000:.2f} (an overprint has no parameters of its own: "
                          "its inks' absorption bands set it)")
         else:
-            why = "; ".join(result.at_bounds) if result.at_bounds else \
-                "none (no parameter at a bound: the pigments' absorption bands cannot make this colour)"
-            lines.append(f"  out of reach: best ΔE2000 {result.de2000:.2f}; at its bound: {why}")
+            why = "; ".join(result.limits) if result.limits else \
+                "none (no parameter fixed or at a bound: the pigments' absorption bands cannot make this colour)"
+            lines.append(f"  out of reach: best ΔE2000 {result.de2000:.2f}; limited by: {why}")
     return "\n".join(lines)

@@ -10,9 +10,10 @@ exactly through the particles and through the voxel grid the wave solver uses.
 from __future__ import annotations
 
 from solver.inks import parse_ink
+from solver.seeds import checked_seed
 from solver.table.preflight import GEOMETRY_FIX, check_geometry
 from solver.table.request import WaveSettings
-from solver.table.request_checks import refuse_grains_without_pigment
+from solver.table.request_checks import checked_layer, refuse_grains_without_pigment
 from .parsing import PARTICLE_GRAMMAR, PARTICLE_GRAMMAR_KEY, DefaultsFormatter, writable_output
 
 
@@ -66,12 +67,12 @@ def generator_seed(args, ink, particles, cell) -> tuple[int, str]:
     if args.realization is None:
         if args.table_seed is not None:
             raise ValueError("--table-seed goes with --realization K (the tables' realization to draw)")
-        seed = 0 if args.seed is None else args.seed
+        seed = 0 if args.seed is None else checked_seed(args.seed, "--seed")
         return seed, f"seed {seed}"
     if args.realization < 0:
         raise ValueError(f"--realization {args.realization}: realizations count from 0")
-    if args.table_seed is not None and args.table_seed < 0:
-        raise ValueError(f"--table-seed {args.table_seed}: the tables' seed is an integer ≥ 0")
+    if args.table_seed is not None:
+        checked_seed(args.table_seed, "--table-seed")
     from solver.table.request import table_request
     from solver.table.wave_tier import realization_seed
 
@@ -85,7 +86,7 @@ def generator_seed(args, ink, particles, cell) -> tuple[int, str]:
 
 
 def run(args) -> int:
-    from solver.geometry import LayerSpec, generate, parse_particles, voxelize
+    from solver.geometry import generate, parse_particles, voxelize
     from solver.geometry.render import draw_sections
     from solver.geometry.report import summary
 
@@ -110,7 +111,7 @@ def run(args) -> int:
         if value is not None and not 0.0 <= value <= top:
             raise ValueError(f"{option} {value:g}: the section must lie inside the layer cell, 0 … {top:g} nm")
     seed, seed_text = generator_seed(args, ink, particles, cell)
-    layer = LayerSpec(ink, particles, thickness_nm=args.thickness, cell_nm=cell)
+    layer = checked_layer(ink, particles, args.thickness, cell)
     if args.png:
         writable_output(args.png, ".png", "--png", make_folder=True)
     check_geometry(layer, grid, force=args.force)

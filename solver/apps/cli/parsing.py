@@ -122,6 +122,23 @@ class OneLineParser(argparse.ArgumentParser):
         self._given_once = {}                     # options given in this command line
         return super().parse_known_args(args, namespace)
 
+    def parse_args(self, args=None, namespace=None):
+        """argparse's, but arguments left over after a subcommand are that subcommand's error
+        (`ink-tables show: error: unrecognized arguments: b.npz`), as its other errors are."""
+        args, extras = self.parse_known_args(args, namespace)
+        if extras:
+            self._subcommand_parser(args).error(f"unrecognized arguments: {' '.join(extras)}")
+        return args
+
+    def _subcommand_parser(self, args) -> argparse.ArgumentParser:
+        """The parser of the subcommand `args` chose (this parser where there is none)."""
+        for action in self._actions:
+            if isinstance(action, argparse._SubParsersAction):
+                chosen = action.choices.get(getattr(args, action.dest, None))
+                if chosen is not None:
+                    return chosen
+        return self
+
     def error(self, message):
         text = f"{message} (see --help)"
         if self.usage_error is not None:
