@@ -50,8 +50,9 @@ def test_molecular_has_no_geometry(capsys, tmp_path):
 
 def test_realization_draws_the_cell_a_table_solves(capsys):
     """--realization K shows the very cell realization K of the tables was solved on: the same
-    grains (count, fractions, clusters, pair correlation) and voxel fractions as the tables'
-    own geometry unit, for the default and another --table-seed; other seeds differ."""
+    grains (count, fractions, clusters, pair correlation) and voxel fractions — on the tables'
+    grid, without --grid — as the tables' own geometry unit, for the default and another
+    --table-seed; other seeds differ."""
     from solver.geometry import generate
     from solver.geometry.report import summary
     from solver.table import wave_tier
@@ -64,8 +65,8 @@ def test_realization_draws_the_cell_a_table_solves(capsys):
         req = table_request("Y15", "sphere:300", **({} if table_seed is None else {"seed": table_seed}))
         vox = wave_tier.geometry_unit(wave_tier.GeometryUnit(req, k))
         real = generate(wave_tier.layer_spec(req), wave_tier.realization_seed(req, k))
-        argv = ["geometry", "--ink", "Y15", "--particles", "sphere:300", "--realization", str(k),
-                "--grid", *map(str, req.wave.grid)] + ([] if table_seed is None else ["--table-seed", str(table_seed)])
+        argv = ["geometry", "--ink", "Y15", "--particles", "sphere:300", "--realization", str(k)] + (
+            [] if table_seed is None else ["--table-seed", str(table_seed)])      # the tables' grid by default
         assert main(argv) == 0
         out = capsys.readouterr().out
         assert lines(out) == lines(summary(real, vox)), (table_seed, k)

@@ -16,6 +16,9 @@ from solver.table.request import WaveSettings
 from solver.table.request_checks import checked_layer, refuse_grains_without_pigment
 from .parsing import PARTICLE_GRAMMAR, PARTICLE_GRAMMAR_KEY, DefaultsFormatter, writable_output
 
+#: the voxel grid of a geometry picture (finer than a table's, for the sections)
+PICTURE_GRID = (128, 128, 64)
+
 
 def add_parser(sub) -> None:
     p = sub.add_parser("geometry", help="generate one random layer cell; summary and section pictures",
@@ -34,8 +37,9 @@ def add_parser(sub) -> None:
                             "seed those tables derive from --table-seed (one-layer inks)")
     p.add_argument("--table-seed", type=int, default=None,
                    help=f"with --realization: the tables' --seed (default {WaveSettings().seed})")
-    p.add_argument("--grid", type=int, nargs=3, default=[128, 128, 64], metavar=("NX", "NY", "NZ"),
-                   help="voxel grid")
+    p.add_argument("--grid", type=int, nargs=3, default=None, metavar=("NX", "NY", "NZ"),
+                   help=f"voxel grid (default {' '.join(map(str, PICTURE_GRID))}; with --realization the "
+                        f"default tables' {' '.join(map(str, WaveSettings().grid))}, the cell they solved)")
     p.add_argument("--png", help="write the section pictures here")
     p.add_argument("--z", type=float, default=None, help="depth of the horizontal section, nm (default: middle)")
     p.add_argument("--y", type=float, default=None, help="y of the vertical section, nm (default: middle)")
@@ -104,7 +108,8 @@ def run(args) -> int:
     if len(args.cell) > 2:
         raise ValueError(f"--cell takes one or two lengths, got {len(args.cell)}")
     cell = (args.cell[0], args.cell[-1])
-    grid = tuple(args.grid)
+    grid = tuple(args.grid) if args.grid is not None else (
+        WaveSettings().grid if args.realization is not None else PICTURE_GRID)
     if min(grid) < 1:
         raise ValueError(f"--grid {' '.join(map(str, grid))}: voxel counts are integers ≥ 1")
     for option, value, top in (("--z", args.z, args.thickness), ("--y", args.y, cell[1])):
