@@ -67,6 +67,12 @@ def plan_costs() -> None:
                            if e is not None) for w in (2, 16))
             line += f"{duration(t2) + ' / ' + duration(t16):>28s}  "
         print(line)
+    empty = BuildOptions(workers=2, progress=False,
+                         cache=TableCache(Path(tempfile.gettempdir()) / "bench_figures_plan_no_cache"))
+    print("   the default Fig. 7 with cheaper settings (`candidates` measures their colour against fine):")
+    for name, overrides in DEFAULT_CANDIDATES.items():
+        plans = plan_cells(*FIGURES["fig7"], FigureSettings("default", tuple(overrides.items())))
+        print(f"     {name:28s} {duration(sum(e.seconds for e in estimates(plans, empty) if e is not None))}")
 
 
 def se_check(cache: TableCache) -> None:
