@@ -179,6 +179,7 @@ def validate(table: InkTable, where: str = "table") -> InkTable:
     for name, arr in table.errors.items():
         _check(name in COLUMNS + ("R",), where, f"unknown error column '{name}_err'")
         _check(np.shape(arr) == table.column(name).shape, where, f"'{name}_err' shape mismatch")
+    _validate_polarisation(table, where, version)      # the s/p arrays' kinds before their energy sums
     for total, coherent in (("Rbar", "R_spec"), ("Tbar", "T_coh")):
         excess = float(np.max(table.column(coherent) - table.column(total)))
         _check(excess <= _ENERGY_TOL, where, f"'{coherent}' exceeds '{total}' by {excess:.3g}")
@@ -203,7 +204,6 @@ def validate(table: InkTable, where: str = "table") -> InkTable:
     mismatch = np.abs(table.Rbar - table.R_spec - diffuse_albedo(table.theta, table.dphi, table.R))
     _check(float(mismatch.max()) <= tol, where,
            f"'Rbar' differs from R_spec + ∫R by {mismatch.max():.3g} (> {tol:.3g})")
-    _validate_polarisation(table, where, version)
     return table
 
 
