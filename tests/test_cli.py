@@ -355,3 +355,15 @@ def test_the_build_summary_says_what_a_born_tables_energy_closure_is(tmp_path, c
     assert f"within {meta['tier_probe']['deviation']['born']:.2g} of full solves (tolerance 0.001)" in line
     line, meta = closure_line("--tier", "full")
     assert "solver's residual" in line and "Born" not in line
+
+
+@pytest.mark.parametrize("module", ["inkbsdf.print", "inkbsdf.render"])
+def test_print_and_render_say_their_version(module, capsys):
+    """Every command of the package answers --version with the installed package's version."""
+    import importlib
+    from importlib.metadata import version
+
+    app = importlib.import_module(module.replace("inkbsdf.", "inkbsdf.apps."))
+    with pytest.raises(SystemExit) as exc:
+        app.build_parser().parse_args(["--version"])
+    assert exc.value.code == 0 and capsys.readouterr().out.strip() == f"{module} {version('inkbsdf')}"

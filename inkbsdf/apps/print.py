@@ -24,6 +24,7 @@ import re
 import sys
 from pathlib import Path
 
+from solver.apps.cli import package_version
 from solver.apps.cli.parsing import DefaultsFormatter, OneLineParser, run_guarded, writable_output
 from solver.interrupts import raising
 from solver.paper import PAPER_ALBEDO, check_paper_albedo
@@ -59,6 +60,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = _Parser(prog="python -m inkbsdf.print", description=__doc__.split("\n\n")[0],
                 formatter_class=DefaultsFormatter)
+    p.add_argument("--version", action="version", version=f"inkbsdf.print {package_version()}")
     from solver.apps.separation import BLACK_MODES, MAPPINGS, BlackGeneration, GamutSettings
     from solver.apps.separation.black import TAC_BOUNDS
     from solver.apps.separation.printset import DEFAULT_INK_LIST

@@ -22,6 +22,7 @@ import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
+from solver.apps.cli import package_version
 from solver.apps.cli.parsing import DefaultsFormatter, OneLineParser, interrupted_word, run_guarded, writable_output
 from solver.interrupts import exit_status, raising
 from solver.seeds import checked_seed
@@ -183,6 +184,7 @@ class _Parser(OneLineParser):
 def build_parser() -> argparse.ArgumentParser:
     p = _Parser(prog="python -m inkbsdf.render", description=__doc__.split("\n\n")[0],
                 formatter_class=DefaultsFormatter)
+    p.add_argument("--version", action="version", version=f"inkbsdf.render {package_version()}")
     p.add_argument("scene", help="Mitsuba scene file (.xml)")
     p.add_argument("--tables", default=None, help="folder of ink tables, passed as $tables")
     p.add_argument("--spp", type=_positive_int, default=None,
