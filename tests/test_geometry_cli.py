@@ -70,7 +70,8 @@ def test_realization_draws_the_cell_a_table_solves(capsys):
         assert main(argv) == 0
         out = capsys.readouterr().out
         assert lines(out) == lines(summary(real, vox)), (table_seed, k)
-        assert f"realization {k} of the tables with --seed {req.wave.seed}" in out
+        assert f"realization {k} of the tables built with seed {req.wave.seed} (--table-seed" in out
+        assert f"on the default tables' voxel grid {'×'.join(map(str, req.wave.grid))}" in out
     assert main(["geometry", "--ink", "Y15", "--particles", "sphere:300", "--seed", "0",
                  "--grid", *map(str, req.wave.grid)]) == 0
     assert lines(capsys.readouterr().out) != lines(summary(real, vox))

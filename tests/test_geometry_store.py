@@ -58,6 +58,7 @@ def test_second_ink_on_the_same_grains_draws_no_geometry(tmp_path, caplog):
         caplog.clear()
         shared = build_table(small("Y15"), opts)
     assert "geometry:" not in caplog.text                     # both realizations came from R15's
+    assert "shared grains: 2 of 2 realizations read from the cache" in caplog.text
     alone = build_table(small("Y15"), BuildOptions(progress=False, cache=TableCache(tmp_path / "own"), workers=1))
     for name in COLUMNS:
         np.testing.assert_array_equal(getattr(shared, name), getattr(alone, name))

@@ -252,4 +252,4 @@ def test_a_thick_film_whose_fringes_the_default_step_misses_is_warned_about():
         table_request("clear", thickness_nm=2412.0)      # four process inks overprinted: 19 nm apart
         table_request("clear", thickness_nm=20000.0, wavelengths_nm=tuple(range(380, 781)))   # sampled finely
         assert not caught, [str(w.message) for w in caught]
-    assert len(thick) == 1 and "2.32 nm apart at 380 nm" in thick[0] and "--wavelengths" in thick[0]
+    assert len(thick) == 1 and "2.32 nm apart at 380 nm" in thick[0] and "--wavelengths 380:780:1)" in thick[0]

@@ -45,6 +45,6 @@ def summary(real, vox=None) -> str:
     if vox is not None:
         pig = sum(vox.volume_nm3(c) for c in real.population_codes)
         exact = float(np.sum(real.volumes_nm3))
-        lines.append(f"voxel grid {vox.shape} ({vox.lines_per_voxel}x{vox.lines_per_voxel} lines per column): "
+        lines.append(f"voxel grid {'×'.join(map(str, vox.shape))} ({vox.lines_per_voxel}×{vox.lines_per_voxel} lines per column): "
                      f"pigment volume / particle volume - 1 = {pig / exact - 1 if exact else 0.0:+.2e}")
     return "\n".join(lines)

@@ -96,13 +96,21 @@ def _geometry(request, opts, timer, realizations=None):
     rs = list(range(request.wave.realizations) if realizations is None else realizations)
     keys = [geometry_store.key(request, r) for r in rs]
 
+    read = []
+
     def load(i):
         arrays = opts.cache.load_geometry(keys[i])
-        return None if arrays is None else geometry_store.relabel(_voxels_from_arrays(arrays), request)
+        if arrays is None:
+            return None
+        read.append(i)
+        return geometry_store.relabel(_voxels_from_arrays(arrays), request)
 
     t0 = time.perf_counter()
     out = _cached_units(opts, len(rs), load, lambda i, vox: opts.cache.store_geometry(keys[i], _voxels_to_arrays(vox)),
                         lambda i: GeometryUnit(request, rs[i]), geometry_unit, "geometry")
+    if read:
+        log.info("shared grains: %d of %d realizations read from the cache (drawn for another ink on the "
+                 "same grains, or by an earlier build)", len(read), len(rs))
     timer.add("geometry", time.perf_counter() - t0)
     return out
 

@@ -94,7 +94,7 @@ def fringe_aliasing_warning(thickness_nm: float, wavelengths_nm, binder_index: f
     spacing = float(wl[0]) ** 2 / (2.0 * binder_index * float(thickness_nm))
     if step <= spacing:
         return None
-    fine = max(0.1, math.floor(spacing / 2.0 * 10.0) / 10.0)
+    fine = next((s for s in (5.0, 4.0, 2.0, 1.0, 0.5, 0.25, 0.2, 0.1) if s <= spacing / 2.0), 0.1)   # divides 400 nm
     return (f"{OPTION['thickness_nm']}: a {thickness_nm:g}-nm film's interference fringes "
             f"are {spacing:.3g} nm apart at {wl[0]:g} nm, and the table samples every {step:g} nm: its colour is "
             f"aliased; sample finer ({OPTION['wavelengths_nm']} {wl[0]:g}:{wl[-1]:g}:{fine:g}) or use a thinner layer")

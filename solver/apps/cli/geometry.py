@@ -85,8 +85,8 @@ def generator_seed(args, ink, particles, cell) -> tuple[int, str]:
     if cell[0] != cell[1]:
         raise ValueError("--realization: tables use square cells; give one --cell length")
     seed = realization_seed(request, args.realization)
-    return seed, (f"realization {args.realization} of the tables with --seed {request.wave.seed} "
-                  f"(generator seed {seed})")
+    return seed, (f"realization {args.realization} of the tables built with seed {request.wave.seed} "
+                  f"(--table-seed; generator seed {seed})")
 
 
 def run(args) -> int:
@@ -110,6 +110,7 @@ def run(args) -> int:
     cell = (args.cell[0], args.cell[-1])
     grid = tuple(args.grid) if args.grid is not None else (
         WaveSettings().grid if args.realization is not None else PICTURE_GRID)
+
     if min(grid) < 1:
         raise ValueError(f"--grid {' '.join(map(str, grid))}: voxel counts are integers ≥ 1")
     for option, value, top in (("--z", args.z, args.thickness), ("--y", args.y, cell[1])):
@@ -128,7 +129,8 @@ def run(args) -> int:
     vox = voxelize(real, grid)
     print(summary(real, vox))
     if args.realization is not None:
-        print(seed_text)
+        print(seed_text + ("" if args.grid is not None else
+                           f", on the default tables' voxel grid {'×'.join(map(str, grid))}"))
     if args.png:
         title = f"{ink.label}, {particles.label}, H = {args.thickness:g} nm, {seed_text}"
         draw_sections(real, vox, args.png, title, z_nm=args.z, y_nm=args.y)
