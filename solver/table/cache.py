@@ -166,9 +166,12 @@ class TableCache:
         atomic_savez(self.parts_dir(request) / f"{name}.npz", arrays, durable=False)
 
     # -- geometry shared between tables (geometry_store.py) --------------------------------
+    def geometry_path(self, key: str) -> Path:
+        return self.root / "geometry" / f"{key}.npz"
+
     def load_geometry(self, key: str) -> dict | None:
         """A realization's stored voxel fractions, or None; a read keeps it from the sweep."""
-        path = self.root / "geometry" / f"{key}.npz"
+        path = self.geometry_path(key)
         arrays = _load_arrays(path)
         if arrays is not None:
             with contextlib.suppress(OSError):      # a read-only cache still serves it
@@ -176,11 +179,11 @@ class TableCache:
         return arrays
 
     def has_geometry(self, key: str) -> bool:
-        return (self.root / "geometry" / f"{key}.npz").exists()
+        return self.geometry_path(key).exists()
 
     def store_geometry(self, key: str, arrays: dict) -> None:
         """Compressed: the fractions are mostly 0 and 1 (a 48×48×24 realization ~0.7 MB raw)."""
-        atomic_savez(self.root / "geometry" / f"{key}.npz", arrays, compressed=True, durable=False)
+        atomic_savez(self.geometry_path(key), arrays, compressed=True, durable=False)
 
 
 def _load_arrays(path: Path) -> dict | None:

@@ -63,6 +63,7 @@ def code_fingerprint(kind: str) -> str:
     """Hash of the numeric code of a pipeline kind ('film', 'wave' or 'geometry'), 16 hex digits."""
     h = hashlib.sha256(kind.encode())
     for name in KINDS[kind]:
+        top = _package_dir(name)
         for path in _source_files(name):
-            h.update(f"{name}:{path.relative_to(_package_dir(name))}".encode() + file_digest(str(path), path.stat().st_mtime_ns).encode())
+            h.update(f"{name}:{path.relative_to(top)}".encode() + file_digest(str(path), path.stat().st_mtime_ns).encode())
     return h.hexdigest()[:16]

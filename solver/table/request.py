@@ -422,8 +422,10 @@ def table_request(ink, particles="molecular", *, thickness_nm=None, accuracy: st
     thin = thin_layers_warning([layer.thickness_nm for layer in layers])
     if thin:                                      # valid, but most likely µm typed as nm
         warnings.warn(thin, stacklevel=2)
-    aliased = fringe_aliasing_warning(req.thickness_nm, grids.wavelengths_nm, req.materials.binder_index)
-    if aliased and default_wavelengths and molecular:   # valid, but the default sampling misses the
-        warnings.warn(aliased, stacklevel=2)      # film's fringes (an explicit grid is the caller's choice;
-    #                                               particle inks' steps are their accuracy preset's, measured against fine)
+    # valid, but the default sampling may miss a film's fringes (an explicit grid is the caller's
+    # choice; particle inks' steps are their accuracy preset's, measured against fine)
+    aliased = (fringe_aliasing_warning(req.thickness_nm, grids.wavelengths_nm, req.materials.binder_index)
+               if default_wavelengths and molecular else None)
+    if aliased:
+        warnings.warn(aliased, stacklevel=2)
     return req

@@ -13,7 +13,7 @@ from solver.inks import parse_ink
 from solver.seeds import checked_seed
 from solver.table.preflight import GEOMETRY_FIX, check_geometry
 from solver.table.request import WaveSettings
-from solver.table.request_checks import checked_layer, refuse_grains_without_pigment
+from solver.table.request_checks import checked_layer, parsed_option, refuse_grains_without_pigment
 from .parsing import PARTICLE_GRAMMAR, PARTICLE_GRAMMAR_KEY, DefaultsFormatter, writable_output
 
 #: the voxel grid of a geometry picture (finer than a table's, for the sections)
@@ -97,8 +97,6 @@ def run(args) -> int:
     if "/" in args.ink:
         raise ValueError(f"--ink {args.ink}: geometry draws one layer; give one ink of the stack, e.g. "
                          f"--ink {args.ink.split('/')[0]}")
-    from solver.table.request_checks import parsed_option
-
     ink = parsed_option("ink", args.ink, parse_ink)
     particles = parsed_option("particles", args.particles, parse_particles)
     if particles is None:
@@ -110,7 +108,6 @@ def run(args) -> int:
     cell = (args.cell[0], args.cell[-1])
     grid = tuple(args.grid) if args.grid is not None else (
         WaveSettings().grid if args.realization is not None else PICTURE_GRID)
-
     if min(grid) < 1:
         raise ValueError(f"--grid {' '.join(map(str, grid))}: voxel counts are integers ≥ 1")
     for option, value, top in (("--z", args.z, args.thickness), ("--y", args.y, cell[1])):
