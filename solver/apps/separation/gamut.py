@@ -118,6 +118,12 @@ def _dense_ends(n: int) -> np.ndarray:
     return 0.5 - 0.5 * np.cos(np.pi * np.arange(n) / (n - 1))
 
 
+def _onto_tac(c: np.ndarray, tac: float) -> np.ndarray:
+    """Coverage mixes [..., k], those whose sum exceeds `tac` scaled onto the limit."""
+    total = c.sum(axis=-1, keepdims=True)
+    return np.where(total > tac, c * (tac / np.maximum(total, 1e-12)), c)
+
+
 def face_grids(n_inks: int, tac: float) -> np.ndarray:
     """Coverages [F, FACE_NODES, FACE_NODES, k] on the 2-D faces of the coverage polytope
     {c ∈ [0, 1]^k, Σc ≤ tac}, whose images bound the print's gamut: the cube's faces (two
@@ -133,8 +139,7 @@ def face_grids(n_inks: int, tac: float) -> np.ndarray:
             c = np.zeros(fu.shape + (n_inks,))
             c[..., i], c[..., j] = fu, fv
             c[..., others] = fixed
-            total = c.sum(axis=-1, keepdims=True)
-            grids.append(np.where(total > tac, c * (tac / np.maximum(total, 1e-12)), c))
+            grids.append(_onto_tac(c, tac))
         if tac >= n_inks:
             continue
         for m in others:
@@ -155,9 +160,7 @@ def coverage_samples(n_inks: int, tac: float) -> np.ndarray:
     over `tac` scaled onto it); `face_grids` samples its boundary."""
     n = GRID_NODES.get(n_inks, 9)
     axis = _dense_ends(n)
-    c = np.stack(np.meshgrid(*([axis] * n_inks), indexing="ij"), -1).reshape(-1, n_inks)
-    total = c.sum(axis=-1, keepdims=True)
-    return np.where(total > tac, c * (tac / np.maximum(total, 1e-12)), c)
+    return _onto_tac(np.stack(np.meshgrid(*([axis] * n_inks), indexing="ij"), -1).reshape(-1, n_inks), tac)
 
 
 def _face_triangles(L, C, h) -> np.ndarray:

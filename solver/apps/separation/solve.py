@@ -45,6 +45,8 @@ class SolverSettings:
     starts: int = 2                   # LUT nodes tried (nearest first) for unmatched targets
     near_miss_starts: int = 12        # nodes tried for unmatched targets within near_miss_de
     near_miss_de: float = 1.0
+    polish_starts: int = 8            # … in the colour-first pass, for targets the black aim kept
+    polish_near_miss_starts: int = 32  # from their colour (separate_lab)
     probe_iterations: int = 5         # LM steps from each start before the best is continued
     improvement_de: float = 1e-4      # a step improving ΔE76 by less than this: converged
     broyden: bool = False             # rank-one Jacobian updates between finite differences
@@ -70,20 +72,21 @@ class CoverageGrid:
 
     @classmethod
     def build(cls, model: PrintColourModel, nodes: int) -> "CoverageGrid":
-        from scipy.spatial import cKDTree
-
         axis = np.linspace(0.0, 1.0, nodes)
         grids = np.meshgrid(*([axis] * model.n_inks), indexing="ij")
-        coverages = np.stack([g.ravel() for g in grids], axis=-1)
+        return cls.of(np.stack([g.ravel() for g in grids], axis=-1), model)
+
+    @classmethod
+    def of(cls, coverages: np.ndarray, model) -> "CoverageGrid":
+        """These coverage nodes under `model` (a PrintColourModel, or an objective's residuals)."""
+        from scipy.spatial import cKDTree
+
         lab = model.lab(coverages)
         return cls(coverages, lab, cKDTree(lab))
 
     def on(self, objective) -> "CoverageGrid":
         """The same coverage nodes with another objective's residuals (e.g. the polishing pass's)."""
-        from scipy.spatial import cKDTree
-
-        lab = objective.lab(self.coverages)
-        return CoverageGrid(self.coverages, lab, cKDTree(lab))
+        return CoverageGrid.of(self.coverages, objective)
 
     def nearest(self, lab_targets, count: int = 1) -> np.ndarray:
         """Coverages [N, count, k] of the `count` nodes nearest to the targets [N, 3] in
@@ -281,7 +284,8 @@ def separate_lab(model: PrintColourModel, target_lab, settings: SolverSettings =
             rows = np.flatnonzero(miss) + part.start
             if rows.size:
                 polish = objective.polished()
-                polish_grid = polish_grid or grid.on(polish)
+                if polish_grid is None:
+                    polish_grid = grid.on(polish)
                 coverages[rows], lab_rows, more = lm_solve(polish, polish.targets(targets[rows]), coverages[rows], settings)
                 iterations[rows] += more
                 # still missed: the black aim held the first pass where the colour needs another
@@ -291,7 +295,8 @@ def separate_lab(model: PrintColourModel, target_lab, settings: SolverSettings =
                 if np.any(still):
                     again = rows[still]
                     c2, lab2, it2 = multistart(polish, polish.targets(targets[again]), polish_grid,
-                                               replace(settings, starts=8, near_miss_starts=32))
+                                               replace(settings, starts=settings.polish_starts,
+                                                       near_miss_starts=settings.polish_near_miss_starts))
                     better = (np.linalg.norm(lab2[:, :3] - targets[again], axis=-1)
                               < np.linalg.norm(lab_rows[still, :3] - targets[again], axis=-1))
                     coverages[again[better]] = c2[better]
