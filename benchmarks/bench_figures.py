@@ -55,6 +55,13 @@ SE_SETTINGS = dict(wavelengths_nm=(420.0, 480.0, 540.0, 600.0, 660.0), sigma_rad
 SE_SEEDS = 8
 
 
+def _figure_estimate(plans, workers: int) -> float:
+    """Seconds a figure's planned cells are estimated at from an empty cache (shared grains, one pool)."""
+    empty = TableCache(Path(tempfile.gettempdir()) / "bench_figures_plan_no_cache")   # never created
+    return sum(e.seconds for e in estimates(plans, BuildOptions(workers=workers, progress=False, cache=empty))
+               if e is not None)
+
+
 def plan_costs() -> None:
     print("1. estimated build time of every cell (table preflight model; nothing built)")
     print(f"   {'figure':6s} {'cells':>5s}  " + "  ".join(f"{a + ' (2 / 16 workers)':>28s}" for a in ACCURACY))
@@ -62,17 +69,13 @@ def plan_costs() -> None:
         line = f"   {name:6s} {len(rows) * len(columns):5d}  "
         for accuracy in ACCURACY:
             plans = plan_cells(rows, columns, FigureSettings(accuracy))
-            empty = TableCache(Path(tempfile.gettempdir()) / "bench_figures_plan_no_cache")   # never created
-            t2, t16 = (sum(e.seconds for e in estimates(plans, BuildOptions(workers=w, progress=False, cache=empty))
-                           if e is not None) for w in (2, 16))
+            t2, t16 = (_figure_estimate(plans, w) for w in (2, 16))
             line += f"{duration(t2) + ' / ' + duration(t16):>28s}  "
         print(line)
-    empty = BuildOptions(workers=2, progress=False,
-                         cache=TableCache(Path(tempfile.gettempdir()) / "bench_figures_plan_no_cache"))
     print("   the default Fig. 7 with cheaper settings (`candidates` measures their colour against fine):")
     for name, overrides in DEFAULT_CANDIDATES.items():
-        plans = plan_cells(*FIGURES["fig7"], FigureSettings("default", tuple(overrides.items())))
-        print(f"     {name:28s} {duration(sum(e.seconds for e in estimates(plans, empty) if e is not None))}")
+        seconds = _figure_estimate(plan_cells(*FIGURES["fig7"], FigureSettings("default", tuple(overrides.items()))), 2)
+        print(f"     {name:28s} {duration(seconds)}")
 
 
 def se_check(cache: TableCache) -> None:
