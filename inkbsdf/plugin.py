@@ -170,11 +170,11 @@ def coverage_names(props) -> list[str]:
 def _define_class():
     class InkBSDF(mi.BSDF):
         def __init__(self, props):
-            mi.BSDF.__init__(self, props)
-            # what traverse/to_string read, set before anything that can refuse the parameters: a
-            # half-made object (a refused scene) may still be traversed or printed by Mitsuba
-            self.paper, self.coverage_names, self.coverages, self.inks, self.primaries = None, [], [], [], ()
-            self.coverage_model = DEFAULT_COVERAGE_MODEL
+            # Every check and table first, mi.BSDF.__init__ last: the C++ base puts the object in
+            # Dr.Jit's BSDF registry of the variant, and a later render's symbolic calls traverse
+            # and call every registered BSDF. A refused object (kept alive by its exception's
+            # reference cycles until the garbage collector runs) must never be registered, or
+            # those calls meet its missing attributes ('no attribute premixed').
             try:
                 self.coverage_model = check_coverage_model(
                     str(props.get("coverage_model", DEFAULT_COVERAGE_MODEL)))
@@ -196,6 +196,7 @@ def _define_class():
             if self.paper.is_spatially_varying() or any(c.is_spatially_varying() for c in self.coverages):
                 smooth = smooth | mi.BSDFFlags.SpatiallyVarying
                 delta = delta | mi.BSDFFlags.SpatiallyVarying
+            mi.BSDF.__init__(self, props)
             self.m_components = [delta, smooth]
             self.m_flags = delta | smooth
 
@@ -363,8 +364,7 @@ def _define_class():
             return dr.select(ok, value, 0.0), dr.select(ok, pdf, 0.0)
 
         def traverse(self, callback):
-            if self.paper is not None:
-                callback.put("paper", self.paper, mi.ParamFlags.Differentiable)
+            callback.put("paper", self.paper, mi.ParamFlags.Differentiable)
             for name, texture in zip(self.coverage_names, self.coverages):
                 callback.put(name, texture, mi.ParamFlags.Differentiable)
 

@@ -47,6 +47,33 @@ def test_truncated_table(use_variant, ink_tables, tmp_path):
     assert "cut.npz" in msg and "truncated" in msg
 
 
+def test_refused_bsdf_never_reaches_a_later_render(use_variant, ink_tables, tmp_path):
+    """A refused `ink` (a truncated table) stays alive in its exception's reference cycles until
+    the garbage collector runs; it must not be in Dr.Jit's BSDF registry, whose every member a
+    render's symbolic calls traverse and call (it was: "'InkBSDF' object has no attribute
+    'premixed'", flaky with the collector's timing). The collector is off here: deterministic."""
+    import gc
+
+    mi = use_variant("llvm_ad_rgb")
+    data = ink_tables["Y30"].read_bytes()
+    (tmp_path / "cut.npz").write_bytes(data[: len(data) // 2])
+    gc.collect()
+    gc.disable()
+    try:
+        assert "truncated" in _error(mi, tmp_path, "cut.npz")
+        refused = [o for o in gc.get_objects() if type(o).__name__ == "InkBSDF"]
+        assert refused, "the refused object was freed: this test no longer shows anything"
+        scene = mi.load_dict({
+            "type": "scene", "integrator": {"type": "path"}, "emitter": {"type": "constant"},
+            "sensor": {"type": "perspective", "film": {"type": "hdrfilm", "width": 4, "height": 3},
+                       "to_world": mi.ScalarTransform4f().look_at([0, 0, 3], [0, 0, 0], [0, 1, 0])},
+            "shape": {"type": "rectangle", "bsdf": {"type": "ink", "filename": str(ink_tables["R30"])}}})
+        image = np.asarray(mi.render(scene, spp=1))
+    finally:
+        gc.enable()
+    assert image.shape == (3, 4, 3) and np.all(np.isfinite(image)) and image.max() > 0
+
+
 def test_wrong_version_table(use_variant, ink_tables, tmp_path):
     mi = use_variant("llvm_ad_spectral")
     with np.load(ink_tables["B30"]) as npz:
