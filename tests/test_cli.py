@@ -187,13 +187,18 @@ def test_verbose_before_or_after_the_subcommand_adds_debug_lines(tmp_path):
         assert res.returncode == 0, res.stderr
         assert ("DEBUG ink-tables: request G30" in res.stderr) == debug, res.stderr
         assert "cache key" in res.stderr if debug else "DEBUG" not in res.stderr
+        # what a build computes or reuses (INFO) only with -v: by default warnings and the result line
+        assert ("INFO inkbsdf.tables: " in res.stderr) == debug, res.stderr
+        assert debug or res.stderr == "", res.stderr
+        assert res.stdout.startswith(f"{tmp_path / 'g.npz'}: ink G30"), res.stdout
 
 
 def test_help_says_verbose_after_the_subcommand(capsys):
     with pytest.raises(SystemExit):
         main(["build", "--help"])
     flat = " ".join(capsys.readouterr().out.split())
-    assert "-v, --verbose also log debug details" in flat and "after the subcommand" in flat
+    assert "-v, --verbose also log what is computed and reused, and debug details" in flat
+    assert "before or after the subcommand" in flat
 
 
 @pytest.mark.parametrize("argv", [["--version"], ["build", "--version"], ["show", "--version"]])
@@ -263,7 +268,7 @@ def test_show_finds_a_cached_table_by_its_request_or_key_and_computes_nothing(tm
     status, _, err = run_main(main, ["show", "0123456789abcdef01234567", "--cache", cache], capsys)
     assert status == 2 and "no cached tables whose key starts so" in err
     assert sorted(p.name for p in (cache / "tables").iterdir()) == before
-    for argv, words in ((["show"], "--ink with the build's options"), (["show", out, "--ink", "Y15"], "not with it")):
+    for argv, words in ((["show"], "--ink INK with the build's options"), (["show", out, "--ink", "Y15"], "not with it")):
         status, _, err = run_main(main, argv, capsys)
         assert status == 2 and words in err
 
@@ -367,3 +372,96 @@ def test_print_and_render_say_their_version(module, capsys):
     with pytest.raises(SystemExit) as exc:
         app.build_parser().parse_args(["--version"])
     assert exc.value.code == 0 and capsys.readouterr().out.strip() == f"{module} {version('inkbsdf')}"
+
+
+def _command(name: str):
+    """(main, build_parser) of a command: ink-tables, inkbsdf.render or inkbsdf.print."""
+    import importlib
+
+    if name == "ink-tables":
+        from solver.apps.cli import make_parser
+        return main, make_parser
+    app = importlib.import_module(f"inkbsdf.apps.{name}")
+    return app.main, app.build_parser
+
+
+@pytest.mark.parametrize("command, argv, program", [
+    ("ink-tables", ["build", "--ink", "Q5", "-o", "x.npz"], "ink-tables build"),        # bad input
+    ("ink-tables", ["show", "--bogus"], "ink-tables show"),                            # argparse
+    ("render", ["missing.xml", "-o", "x.exr"], "python -m inkbsdf.render"),
+    ("render", ["scene.xml", "--spp", "0", "-o", "x.exr"], "python -m inkbsdf.render"),
+    ("render", ["scene.xml"], "python -m inkbsdf.render"),                             # usage, raised by the command
+    ("print", ["missing.png", "-o", "page.xml"], "python -m inkbsdf.print"),
+    ("print", ["--bogus"], "python -m inkbsdf.print"),
+])
+def test_every_commands_error_line_names_the_program(command, argv, program, tmp_path, monkeypatch, capsys):
+    """argparse's form `PROG: error: …` for every error of every command, PROG as the usage line
+    says it (a bare `error:` left the user guessing which program of a pipeline spoke)."""
+    monkeypatch.chdir(tmp_path)
+    run, parser = _command(command)
+    status, _, err = run_main(run, argv, capsys)
+    assert status == 2 and err.count("\n") == 1, err
+    assert err.startswith(f"{program}: error: "), err
+    usage = parser().format_usage() if command != "ink-tables" else ""
+    assert usage.startswith(f"usage: {program} ") or command == "ink-tables", usage
+
+
+def test_print_names_itself_when_interrupted(monkeypatch, capsys):
+    """The interrupt line names the program too (render's: test_render_cli.py, by a signal)."""
+    from inkbsdf.apps import print as app
+
+    def interrupted(argv):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(app, "_main", interrupted)
+    assert app.main([]) == 130
+    assert capsys.readouterr().err == "\npython -m inkbsdf.print: interrupted: stopped\n"
+
+
+@pytest.mark.parametrize("command", ["ink-tables", "render", "print"])
+def test_every_command_takes_verbose(command, capsys):
+    _, parser = _command(command)
+    with pytest.raises(SystemExit):
+        parser().parse_args(["--help"])
+    flat = " ".join(capsys.readouterr().out.split())
+    assert "-v, --verbose also log what is computed and reused" in flat, flat
+
+
+def test_verbose_logging_is_set_in_one_place_for_every_command():
+    """The level of this package's loggers follows -v, whichever command set it last (a library
+    scene load had set inkbsdf.tables to INFO: its lines showed without -v)."""
+    import logging
+
+    from solver.apps.cli.logs import LineFormatter, configure_logging
+
+    tables = logging.getLogger("inkbsdf.tables")
+    previous = {name: logging.getLogger(name).level for name in ("inkbsdf", "inkbsdf.tables", "ink-tables")}
+    try:
+        tables.setLevel(logging.INFO)                          # as inkbsdf.source.show_build_log does
+        configure_logging(False)
+        assert not tables.isEnabledFor(logging.INFO) and tables.isEnabledFor(logging.WARNING)
+        configure_logging(True)
+        assert tables.isEnabledFor(logging.DEBUG) and logging.getLogger("ink-tables").isEnabledFor(logging.DEBUG)
+        assert not logging.getLogger("numpy").isEnabledFor(logging.INFO)     # never the libraries'
+    finally:
+        for name, level in previous.items():
+            logging.getLogger(name).setLevel(level)
+    record = logging.LogRecord("inkbsdf.tables", logging.WARNING, "", 0, "part %s unreadable", ("p",), None)
+    assert LineFormatter().format(record) == "warning: part p unreadable"       # as warnings.warn's lines
+    record = logging.LogRecord("inkbsdf.tables", logging.INFO, "", 0, "cache hit", (), None)
+    assert LineFormatter().format(record) == "INFO inkbsdf.tables: cache hit"
+
+
+def test_show_usage_names_the_three_ways_to_give_the_table(capsys):
+    """`ink-tables show`'s usage line: the table (a file, a cache key, or --ink with the build's
+    options) first, one way per line — argparse's listed 30 options and `[file]` last."""
+    with pytest.raises(SystemExit):
+        main(["show", "--help"])
+    usage = capsys.readouterr().out.split("\n\n")[0].splitlines()
+    assert [line.split()[:3] if i == 0 else line.split()[:2] for i, line in enumerate(usage)] == [
+        ["usage:", "ink-tables", "show"], ["ink-tables", "show"], ["ink-tables", "show"]], usage
+    assert [line.split("show ", 1)[1].split()[0] for line in usage] == ["FILE.npz", "KEY", "--ink"], usage
+    assert all("--png PNG" in line and "[options]" in line for line in usage), usage
+    status, _, err = run_main(main, ["show"], capsys)              # a bad call: what to give, one line
+    assert status == 2 and err.count("\n") == 1 and err.startswith("ink-tables show: error: "), err
+    assert all(word in err for word in ("FILE.npz", "KEY", "--ink INK", "see --help")), err

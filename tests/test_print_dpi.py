@@ -34,7 +34,7 @@ def test_too_coarse_dpi_refused_in_one_line(small_image, tmp_path, capsys, extra
                               capsys)
     lines = err.strip().splitlines()
     assert status == 2 and len(lines) == 1, err
-    assert lines[0].startswith("error: --dpi:") and "--dots" in lines[0] and fix in lines[0], err
+    assert lines[0].startswith("python -m inkbsdf.print: error: --dpi:") and "--dots" in lines[0] and fix in lines[0], err
     assert not (tmp_path / "page.xml").exists() and not (tmp_path / "page_textures").exists()
 
 

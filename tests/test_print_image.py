@@ -105,7 +105,7 @@ def test_bad_options_one_line_exit_2(tiny_image, tmp_path, capsys, extra, word):
     status, out, err = run([tiny_image, *extra, "-o", tmp_path / "page.xml"], capsys)
     assert status == 2
     lines = err.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith("error:") and word in lines[0], err
+    assert len(lines) == 1 and lines[0].startswith("python -m inkbsdf.print: error: ") and word in lines[0], err
     assert not (tmp_path / "page.xml").exists() and not (tmp_path / "page_textures").exists()
 
 

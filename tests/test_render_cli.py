@@ -1,5 +1,6 @@
 """`python -m inkbsdf.render`: one clear error line for bad input, no traceback."""
 
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -173,6 +174,21 @@ def _bad_cases(tmp, tables, unwritable):
     }
 
 
+@pytest.mark.render
+def test_a_scene_loads_table_build_is_logged_only_with_verbose(tmp_path):
+    """By default a user sees the render's own lines (and warnings); -v adds what the scene load
+    computes (INFO of inkbsdf.tables), as it does in `ink-tables` (one logging setup)."""
+    scene = bare_scene(tmp_path, '<string name="ink" value="Y30"/>', spp="1")
+    for extra, verbose in (([], False), (["-v"], True)):
+        env = {**os.environ, "INKBSDF_CACHE": str(tmp_path / f"cache{int(verbose)}")}   # built each time
+        proc = subprocess.run([sys.executable, "-m", "inkbsdf.render", str(scene), "-o", str(tmp_path / "y.exr"),
+                               *extra], capture_output=True, text=True, timeout=120, env=env)
+        assert proc.returncode == 0, proc.stderr
+        assert "render" in proc.stdout and " s " in proc.stdout
+        assert ("INFO inkbsdf.tables: computing table: Y30" in proc.stderr) == verbose, proc.stderr
+        assert verbose or proc.stderr == "", proc.stderr
+
+
 def test_bad_input_one_line_exit_2_before_any_work(tmp_path, ink_tables, unwritable_dir, capsys):
     """Every class of bad input: exit 2, one line on stderr naming the option or parameter,
     nothing rendered (no 'rendering…' line) and nothing written."""
@@ -182,7 +198,7 @@ def test_bad_input_one_line_exit_2_before_any_work(tmp_path, ink_tables, unwrita
         out, err = capsys.readouterr()
         lines = err.strip().splitlines()
         assert code == 2, (name, err)
-        assert len(lines) == 1 and lines[0].startswith("error: ") and needle in lines[0], (name, err)
+        assert len(lines) == 1 and lines[0].startswith("python -m inkbsdf.render: error: ") and needle in lines[0], (name, err)
         assert "rendering" not in out, name
         assert not (tmp_path / "x.exr").exists() and not (tmp_path / "x.png").exists(), name
 
@@ -292,7 +308,7 @@ def _interrupted(argv, stream, text, settle=lambda proc: None, sig=None):
         proc.wait()
     word = "terminated" if sig == signal.SIGTERM else "interrupted"
     assert proc.returncode == 128 + sig, err
-    assert "Traceback" not in err and f"{word}: stopped" in err, err
+    assert "Traceback" not in err and f"python -m inkbsdf.render: {word}: stopped" in err, err
     assert seconds < 3.0, f"took {seconds:.1f} s to stop"
     return state
 
@@ -329,8 +345,8 @@ def test_sigterm_during_scene_load_stops_table_workers(tmp_path):
 
     bsdf = ('<string name="ink" value="Y7.5+B7.5"/><string name="particles" value="sphere:300"/>'
             f'<string name="cache" value="{tmp_path / "cache"}"/>')
-    children = _interrupted([str(bare_scene(tmp_path, bsdf)), "--workers", "2", "-o", str(tmp_path / "x.exr")],
-                            "stderr", "computing table", workers_started, sig=signal.SIGTERM)
+    children = _interrupted([str(bare_scene(tmp_path, bsdf)), "--workers", "2", "-o", str(tmp_path / "x.exr"),
+                             "-v"], "stderr", "computing table", workers_started, sig=signal.SIGTERM)   # -v: its INFO line
     deadline = time.monotonic() + 10
     while any(os.path.exists(f"/proc/{c}") for c in children) and time.monotonic() < deadline:
         time.sleep(0.1)

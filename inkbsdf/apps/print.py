@@ -25,6 +25,7 @@ import sys
 from pathlib import Path
 
 from solver.apps.cli import package_version
+from solver.apps.cli.logs import add_verbose, configure_logging
 from solver.apps.cli.parsing import DefaultsFormatter, OneLineParser, run_guarded, writable_output
 from solver.interrupts import raising
 from solver.paper import PAPER_ALBEDO, check_paper_albedo
@@ -32,6 +33,9 @@ from solver.paper import PAPER_ALBEDO, check_paper_albedo
 MARGIN_CM = 1.5                     # white paper around the print on its sheet
 SHEEN_UV = (0.84, 0.17)             # where the softbox's mirror image lands, fraction of the sheet
                                     # (the print's top-right corner: a glimpse of the inks' gloss)
+
+#: the program as its usage and error lines name it
+PROG = "python -m inkbsdf.print"
 
 
 class UsageError(ValueError):
@@ -58,9 +62,10 @@ def build_parser() -> argparse.ArgumentParser:
     from solver.apps.separation import halftone as ht
     from solver.printing import COVERAGE_MODELS
 
-    p = _Parser(prog="python -m inkbsdf.print", description=__doc__.split("\n\n")[0],
+    p = _Parser(prog=PROG, description=__doc__.split("\n\n")[0],
                 formatter_class=DefaultsFormatter)
     p.add_argument("--version", action="version", version=f"inkbsdf.print {package_version()}")
+    add_verbose(p)
     from solver.apps.separation import BLACK_MODES, MAPPINGS, BlackGeneration, GamutSettings
     from solver.apps.separation.black import TAC_BOUNDS
     from solver.apps.separation.printset import DEFAULT_INK_LIST
@@ -249,13 +254,14 @@ def _sheet_transform(stage) -> str:
 def main(argv=None) -> int:
     """The command; returns the exit status (2: bad input, told in one line on stderr)."""
     with raising():                        # SIGTERM: like Ctrl-C, "terminated", exit 143
-        return run_guarded(lambda: _main(argv), interrupted="\n{interrupted}: stopped")
+        return run_guarded(lambda: _main(argv), PROG, f"\n{PROG}: {{interrupted}}: stopped")
 
 
 def _main(argv) -> int:
     from solver.apps.separation import DotsError, print_image, printed_inks, read_image, write_textures
 
     args = build_parser().parse_args(argv)
+    configure_logging(args.verbose)
     settings = settings_from(args)
     if args.image is None and args.characterisation is None:
         raise UsageError("give an IMAGE to print (with -o page.xml), or --characterisation OUT.txt")

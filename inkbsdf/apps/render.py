@@ -23,6 +23,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from solver.apps.cli import package_version
+from solver.apps.cli.logs import add_verbose, configure_logging
 from solver.apps.cli.parsing import DefaultsFormatter, OneLineParser, interrupted_word, run_guarded, writable_output
 from solver.interrupts import exit_status, raising
 from solver.seeds import checked_seed
@@ -30,6 +31,8 @@ from solver.seeds import checked_seed
 from inkbsdf.errors import loader_problem
 
 
+#: the program as its usage and error lines name it
+PROG = "python -m inkbsdf.render"
 #: Samples (pixels × spp) one `mi.render` can take: above it Mitsuba 3.9 splits the render into
 #: passes, and that segfaults (probed: 2×2 px × 1.1e9 spp).
 MAX_SAMPLES = 2**32
@@ -182,9 +185,10 @@ class _Parser(OneLineParser):
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = _Parser(prog="python -m inkbsdf.render", description=__doc__.split("\n\n")[0],
+    p = _Parser(prog=PROG, description=__doc__.split("\n\n")[0],
                 formatter_class=DefaultsFormatter)
     p.add_argument("--version", action="version", version=f"inkbsdf.render {package_version()}")
+    add_verbose(p)
     p.add_argument("scene", help="Mitsuba scene file (.xml)")
     p.add_argument("--tables", default=None, help="folder of ink tables, passed as $tables")
     p.add_argument("--spp", type=_positive_int, default=None,
@@ -205,13 +209,14 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv=None) -> int:
     """The command; returns the exit status (2: bad input, told in one line on stderr).
     Warnings are said as one `warning: …` line each on stderr."""
-    return run_guarded(lambda: _main(argv))            # interrupts: `run` (the main thread) handles them
+    return run_guarded(lambda: _main(argv), PROG)      # interrupts: `run` (the main thread) handles them
 
 
 def _main(argv) -> int:
     from inkbsdf.variant import VariantError, select_variant
 
     args = build_parser().parse_args(argv)
+    configure_logging(args.verbose)
     checked_seed(args.seed, "--seed", UsageError)
     if not (args.output or args.png):
         raise UsageError("give -o OUT.exr (linear), --png OUT.png (sRGB), or both")
@@ -286,7 +291,7 @@ def run(argv=None) -> int:
                 worker.join(0.05)
     except KeyboardInterrupt as exc:
         _stop_children()
-        print(f"\n{interrupted_word(exc)}: stopped", file=sys.stderr, flush=True)
+        print(f"\n{PROG}: {interrupted_word(exc)}: stopped", file=sys.stderr, flush=True)
         sys.stdout.flush()
         os._exit(exit_status(exc))         # the render kernel cannot be cancelled: leave now
     if "error" in outcome:

@@ -13,13 +13,13 @@ import sys
 import warnings
 
 from ...interrupts import Terminated, deferred, exit_status, raising
+from .logs import add_verbose, configure_logging
 
 # .parsing (NumPy, the request's grammar) is imported inside the functions: an interrupt while
 # it loads is then one line too (main)
 
 SUBCOMMANDS = ("build", "show", "geometry", "paper", "design")
-VERBOSE_HELP = ("also log debug details (the request and its cache key, the options in effect); "
-                "before or after the subcommand")
+WHERE_VERBOSE = "before or after the subcommand"
 log = logging.getLogger("ink-tables")
 
 
@@ -35,16 +35,12 @@ def package_version() -> str:
         return f"{__version__} (not installed)"
 
 
-def add_verbose(parser: argparse.ArgumentParser, default=False) -> None:
-    parser.add_argument("-v", "--verbose", action="store_true", default=default, help=VERBOSE_HELP)
-
-
 def make_parser() -> argparse.ArgumentParser:
     from .parsing import OneLineParser
 
     parser = OneLineParser(
         prog="ink-tables", description="Tables of printed-ink reflectance for the inkbsdf Mitsuba plugin.")
-    add_verbose(parser)
+    add_verbose(parser, note=WHERE_VERBOSE)
     version = f"ink-tables {package_version()}"
     parser.add_argument("--version", action="version", version=version)
     sub = parser.add_subparsers(dest="command", required=True)
@@ -57,18 +53,9 @@ def make_parser() -> argparse.ArgumentParser:
             raise
         module.add_parser(sub)
     for command in sub.choices.values():
-        add_verbose(command, default=argparse.SUPPRESS)   # after the subcommand too, keeping one before it
+        add_verbose(command, argparse.SUPPRESS, WHERE_VERBOSE)   # after the subcommand too, keeping one before it
         command.add_argument("--version", action="version", version=version)
     return parser
-
-
-def configure_logging(verbose: bool) -> None:
-    """What a build computes and reuses is logged always (INFO of inkbsdf.tables); -v adds the
-    DEBUG lines of this package (not of the libraries it uses)."""
-    logging.basicConfig(level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s")
-    logging.getLogger("inkbsdf").setLevel(logging.DEBUG if verbose else logging.NOTSET)
-    logging.getLogger("inkbsdf.tables").setLevel(logging.DEBUG if verbose else logging.INFO)
-    log.setLevel(logging.DEBUG if verbose else logging.NOTSET)
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -38,18 +38,19 @@ def interrupted_word(exc: KeyboardInterrupt) -> str:
 MEMORY_HINT = "use coarser settings (--grid, --wavelengths, --angles) or fewer --workers"
 
 
-def run_guarded(work, prefix: str = "", interrupted: str | None = None, memory_hint: str = MEMORY_HINT) -> int:
+def run_guarded(work, program: str, interrupted: str | None = None, memory_hint: str = MEMORY_HINT) -> int:
     """The commands' one wrapper (`ink-tables`, `python -m inkbsdf.print`, `… render`): run
     `work()` (→ exit status) with each warning said as one `warning: …` line, bad input (a
     ValueError: requests, specs, tables, images, usage) and file problems (OSError) as one
-    `PREFIX: error: …` line and exit 2, a table refused for want of a converged solve
+    `PROGRAM: error: …` line and exit 2 (argparse's form: `program` is the usage line's, e.g.
+    "ink-tables build" or "python -m inkbsdf.render"), a table refused for want of a converged solve
     (solver.wave.WaveSolverError, solver/table/retry.py) as one such line and exit 1, an interrupt
     (Ctrl-C, or SIGTERM as solver.interrupts.Terminated) as the line `interrupted` — its
     `{interrupted}` filled with "interrupted" or "terminated" — and exit 128 + the signal (None:
     the caller handles interrupts), a worker process lost (killed from outside) as one line and
     exit 1, a closed output pipe quietly (`… | head`), memory exhausted
     as one line (with `memory_hint`) and exit 1. Anything else is a bug and keeps its traceback."""
-    lead = f"{prefix}: error:" if prefix else "error:"
+    lead = f"{program}: error:"
     with warnings.catch_warnings():
         warnings.showwarning = print_warning
         try:

@@ -27,6 +27,10 @@ from .build import (add_cache_argument, add_request_arguments, cache_from_args, 
 from .parsing import DefaultsFormatter, add_measurement_arguments, measurement_from_args, writable_output
 
 
+#: the three ways to name the table, first (argparse's own line lists every option, the table last)
+USAGE = """%(prog)s FILE.npz [--png PNG] [--plot PNG] [options]
+       %(prog)s KEY [--png PNG] [--plot PNG] [options]
+       %(prog)s --ink INK [build's request options] [--png PNG] [--plot PNG] [options]"""
 #: what a cache key, or the start of one, looks like (request.TableRequest.key: hex digits)
 CACHE_KEY = re.compile(r"[0-9a-f]{6,64}")
 
@@ -127,14 +131,14 @@ def plot_spectra(table, path: str) -> None:
 
 def add_parser(sub) -> None:
     p = sub.add_parser("show", help="summarise a table; draw the paper's Fig. 6",
-                       formatter_class=DefaultsFormatter,
+                       formatter_class=DefaultsFormatter, usage=USAGE,
                        description="Summarise a table file, a cached table by its key, or the cached table "
                                    "that the request options describe (the same options as `build`, e.g. "
                                    "--ink R15 --particles sphere:100 --accuracy preview, a particle cell of a "
                                    "preview figure); nothing is computed.")
-    p.add_argument("file", nargs="?", default=None,
-                   help="table file (.npz), or a cache key (a figure CSV's cache_key column); or give --ink "
-                        "and the request options instead")
+    p.add_argument("file", nargs="?", default=None, metavar="FILE|KEY",
+                   help="table file (.npz), or a cache key or its start (a figure CSV's cache_key column); or "
+                        "give --ink and the request options instead")
     p.add_argument("--png", help="write the Fig. 6 picture (strip + BRDF square, with axes and a caption) here")
     p.add_argument("--plot", help="write spectra with error bars here (PNG)")
     p.add_argument("--paper", type=float, default=PAPER_ALBEDO, help="paper albedo r")
@@ -182,7 +186,8 @@ def run(args) -> int:
                          f"build's options): give it instead of the table file {args.file}, not with it")
     if args.file is None and args.ink is None:
         raise ValueError(f"{given[0]} needs --ink (the request of a cached table)" if given else
-                         "give a table file, a cache key, or --ink with the build's options")
+                         "name the table: a table FILE.npz, a cache KEY, or --ink INK with the build's "
+                         "options (see --help)")
     if args.file is None:
         table, path = cached_table(args)
         print(f"cached table {path}")

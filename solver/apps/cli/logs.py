@@ -1,0 +1,44 @@
+"""What the commands (`ink-tables`, `python -m inkbsdf.render`, `… print`) log on stderr, one
+setup for all: by default only warnings, as `warning: …` lines like those of the warnings module
+(the commands print their result lines themselves); -v/--verbose adds this package's INFO lines
+(what a build computes and reuses, how long) and DEBUG lines (the request and its cache key, the
+options in effect), never the libraries'."""
+
+from __future__ import annotations
+
+import argparse
+import logging
+
+#: the loggers whose level the commands set: this package's ("inkbsdf.*", the commands'
+#: "ink-tables"), and "inkbsdf.tables", which a scene load outside a command sets to INFO
+#: (inkbsdf.source.show_build_log)
+PACKAGE_LOGGERS = ("inkbsdf", "inkbsdf.tables", "ink-tables")
+VERBOSE_HELP = ("also log what is computed and reused, and debug details (the request and its cache key, "
+                "the options in effect)")
+
+
+def add_verbose(parser: argparse.ArgumentParser, default=False, note: str = "") -> None:
+    """-v/--verbose on `parser` (`note` ends its help, e.g. where the option may stand)."""
+    parser.add_argument("-v", "--verbose", action="store_true", default=default,
+                        help=VERBOSE_HELP + (f"; {note}" if note else ""))
+
+
+class LineFormatter(logging.Formatter):
+    """`warning: message` (the level in lower case) for warnings and errors, as the commands say
+    them; `INFO logger: message` for what -v adds."""
+
+    def format(self, record: logging.LogRecord) -> str:
+        if record.levelno >= logging.WARNING:
+            return f"{record.levelname.lower()}: {record.getMessage()}"
+        return f"{record.levelname} {record.name}: {record.getMessage()}"
+
+
+def configure_logging(verbose: bool) -> None:
+    """Warnings on stderr always; with `verbose` also this package's INFO and DEBUG lines. The
+    handler is installed once per process, unless the application (or pytest) configured
+    logging already; the levels are set at every call."""
+    handler = logging.StreamHandler()
+    handler.setFormatter(LineFormatter())
+    logging.basicConfig(level=logging.WARNING, handlers=[handler])
+    for name in PACKAGE_LOGGERS:
+        logging.getLogger(name).setLevel(logging.DEBUG if verbose else logging.NOTSET)
