@@ -6,6 +6,7 @@
     python -m benchmarks.bench_tables --control-variate  # the Born control-variate study (~1 min)
     python -m benchmarks.bench_tables --stride-curve     # film-guided wavelength stride (~3 min)
     python -m benchmarks.bench_tables --common-grains    # rows sharing grains: paired realizations (~1 min)
+    python -m benchmarks.bench_tables --samples          # sample design: cells × azimuths (~5 min)
 
 1. The default table (issue target: ≤ 60 s wall on this 2-core machine with max SE of Rbar and
    Tbar ≤ 0.011), old and new code side by side: Y7.5+B7.5, 300-nm spheres, seconds per stage
@@ -23,6 +24,10 @@
    and today's 20-nm grid (docs/tables.md, "Wavelength stride").
 3. The Born solves as a control variate (tried, not built): correlation with the full solves,
    cost, and the two-phase-sampling gain at equal cost (docs/tables.md).
+5. The sample design (--samples): variance components of the ensemble (between cells, between
+   azimuths of one cell, the TE–TM covariance of a cell) and the standard error of each design
+   (realizations × azimuths; one azimuth alternates TE and TM over the cells) relative to the
+   former default 4 × 2 (docs/tables.md, "Samples: one cell per solve").
 """
 
 from __future__ import annotations
@@ -352,6 +357,59 @@ def angle_count_curve(ink: str = "B30") -> list[tuple]:
     return rows
 
 
+#: `--samples`: cells of the sample-design study (docs/tables.md, "Samples: one cell per solve")
+SAMPLE_CELLS = (("R15", "sphere:300"), ("B30", "cylinder:200:inplane"), ("R30", "sphere:100"))
+#: designs compared there: (realizations, azimuths per realization); one azimuth alternates TE/TM
+SAMPLE_DESIGNS = ((4, 2), (3, 2), (6, 1), (5, 1), (8, 1))
+
+
+def design_variance(comp: dict, realizations: int, azimuths: int) -> np.ndarray:
+    """Variance of the unpolarised ensemble mean under a sample design, from the variance
+    components (per node): a_p between cells, e_p between azimuths of one cell, c the TE–TM
+    covariance of a cell's effect.  Even `azimuths`: every cell solves azimuths/2 of each
+    polarisation (joint); one: the cells alternate TE, TM (independent groups)."""
+    a, e, c = comp["a"], comp["e"], comp["c"]
+    if azimuths == 1:
+        n = {0: (realizations + 1) // 2, 1: realizations // 2}
+        return sum((a[p] + e[p]) / n[p] for p in (0, 1)) / 4
+    k = azimuths // 2
+    return (a[0] + e[0] / k + a[1] + e[1] / k + 2 * c) / (4 * realizations)
+
+
+def sample_design_study(realizations: int = 6, azimuths: int = 4, lambda_indices=(2, 10, 18)) -> None:
+    """Variance components of the wave ensemble and what each sample design gives for them:
+    `realizations` cells × `azimuths` azimuths (half TE, half TM) solved at three wavelengths,
+    Tbar and Rbar per (λ, σ); the standard error of each design relative to the former default
+    (4 realizations × 2 azimuths) at the median node, beside the solves it costs."""
+    print(f"sample designs ({realizations} cells × {azimuths} azimuths solved, full tier, default grid; "
+          "SE of the unpolarised mean relative to 4 × 2, median over (λ, σ) nodes)")
+    print(f"  {'cell':28s} {'column':5s} {'e/a TE, TM':>12s} {'corr(a)':>8s}  "
+          + "  ".join(f"{n}×{a} ({n * a} solves)" for n, a in SAMPLE_DESIGNS))
+    for ink, particles in SAMPLE_CELLS:
+        req = table_request(ink, particles, tier="full", realizations=realizations, azimuths=azimuths)
+        units = []
+        for r in range(realizations):
+            vox = geometry_unit(GeometryUnit(req, r))
+            units.append([solve_unit(SolveUnit(req, r, li, vox)) for li in lambda_indices])
+        pol = units[0][0]["polarisation"]
+        for key in ("Tbar", "Rbar"):
+            x = np.stack([np.stack([u[key] for u in per_r]) for per_r in units])     # [r, λ, σ, sample]
+            y = {p: x[..., pol == p] for p in (0, 1)}
+            e = {p: y[p].var(axis=-1, ddof=1).mean(axis=0) for p in (0, 1)}
+            m = {p: y[p].mean(axis=-1) for p in (0, 1)}
+            a = {p: np.maximum(m[p].var(axis=0, ddof=1) - e[p] / y[p].shape[-1], 0.0) for p in (0, 1)}
+            c = ((m[0] - m[0].mean(0)) * (m[1] - m[1].mean(0))).sum(axis=0) / (realizations - 1)
+            comp = {"a": a, "e": e, "c": c}
+            old = design_variance(comp, 4, 2)
+            ok = old > 0
+            ratio = lambda n, k: float(np.median(np.sqrt(design_variance(comp, n, k)[ok] / old[ok])))
+            ea = [float(np.median(e[p][ok] / np.maximum(a[p][ok], 1e-15))) for p in (0, 1)]
+            corr = float(np.median((c / np.sqrt(np.maximum(a[0] * a[1], 1e-30)))[ok]))
+            print(f"  {ink + ' ' + particles:28s} {key:5s} {ea[0]:5.2f}, {ea[1]:5.2f} {corr:8.2f}  "
+                  + "  ".join(f"{ratio(n, k):>{len(f'{n}×{k} ({n * k} solves)')}.2f}" for n, k in SAMPLE_DESIGNS),
+                  flush=True)
+
+
 def plot(curves: dict) -> None:
     import matplotlib
     matplotlib.use("Agg")
@@ -394,7 +452,12 @@ def main(argv=None) -> int:
     p.add_argument("--realizations", type=int, default=2, help="realizations of the stride curve")
     p.add_argument("--common-grains", action="store_true",
                    help="only the common-random-numbers study (rows sharing grains; ~1 min)")
+    p.add_argument("--samples", action="store_true",
+                   help="only the sample-design study (cells × azimuths, variance components; ~5 min)")
     args = p.parse_args(argv if argv is not None else [])
+    if args.samples:
+        sample_design_study()
+        return 0
     if args.common_grains:
         common_grains_study()
         return 0

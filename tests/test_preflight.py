@@ -52,9 +52,13 @@ def test_force_skips_the_refusal_but_keeps_the_estimate(tmp_path):
 def test_estimate_grows_with_what_is_asked():
     base = preflight.estimate(table_request("R15", "sphere:100"))
     finer = preflight.estimate(table_request("R15", "sphere:100", grid=(128, 128, 64)))
-    more = preflight.estimate(table_request("R15", "sphere:100", realizations=8))
+    more = preflight.estimate(table_request("R15", "sphere:100", realizations=12))
     assert finer.worker_bytes > base.worker_bytes and finer.seconds > base.seconds
     assert more.solves == 2 * base.solves and more.seconds > base.seconds
+    # the default: 6 realizations of one azimuth, TE and TM alternating: 6 solves per (λ, σ);
+    # two azimuths solve TE and TM in every realization: 12
+    assert base.solves == 6 * 11 * 7
+    assert preflight.estimate(table_request("R15", "sphere:100", azimuths=2)).solves == 2 * base.solves
     assert preflight.estimate(table_request("R15", "sphere:100"), workers=2).seconds < base.seconds
     # grains: volume fraction × layer volume / grain volume (an independent count, not the model's)
     import math
@@ -128,7 +132,7 @@ def test_estimate_counts_the_solves_of_the_solved_wavelengths_at_the_measured_co
 
     monkeypatch.setattr(preflight, "POOL_START_S", 0.0)
     kw = dict(wavelengths_nm=tuple(float(w) for w in range(400, 701, 20)), grid=(32, 32, 16), realizations=3,
-              tier="full")
+              tier="full", solver_tol=1e-3)
     every = preflight.estimate(table_request("R15", "sphere:300", wavelength_stride=1, **kw))
     third = preflight.estimate(table_request("R15", "sphere:300", wavelength_stride=3, **kw))
     rough = preflight.estimate(table_request("R15", "sphere:300:rough", wavelength_stride=3, **kw))
@@ -141,6 +145,9 @@ def test_estimate_counts_the_solves_of_the_solved_wavelengths_at_the_measured_co
     assert third.seconds == pytest.approx(geometry + third.solves * per_solve, rel=1e-9)
     assert rough.seconds - rough.geometry_seconds * 3 == pytest.approx(
         rough.solves * per_solve * preflight.ROUGH_TOP_SOLVE_FACTOR, rel=1e-9)
+    # a looser solver tolerance: fewer applications, 27 % per decade (the measured slope)
+    loose = preflight.estimate(table_request("R15", "sphere:300", wavelength_stride=3, **dict(kw, solver_tol=1e-2)))
+    assert loose.seconds - geometry == pytest.approx((1 - 0.27) * (third.seconds - geometry), rel=1e-9)
     monkeypatch.setattr(preflight, "SECONDS_PER_VOXEL_LOG", 2 * preflight.SECONDS_PER_VOXEL_LOG)
     doubled = preflight.estimate(table_request("R15", "sphere:300", wavelength_stride=3, **kw))
     assert doubled.seconds - geometry == pytest.approx(2 * (third.seconds - geometry), rel=1e-9)

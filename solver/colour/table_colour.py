@@ -13,7 +13,8 @@ correlation, which the tables do not record:
                                                  its λ and σ nodes: the same random cells)
 and the larger of the two is reported (per component). Where the standard errors come from:
   'realizations'     the spread across the table's random cells (the wave tiers), with
-                     realizations − 1 degrees of freedom (`dof`, for Student's t);
+                     the table's `errors.se_dof` degrees of freedom (`dof`, for Student's t:
+                     realizations − 1, or − 2 where TE and TM were solved on separate cells);
   'exact'            0: the thin film of a molecular ink is exact;
   'model deviation'  an effective-medium table: the tier probe's measured deviation from the full
                      solve, used as the standard error of every node of R_spec, Tbar, Rbar_below;
@@ -93,8 +94,10 @@ def node_errors(table) -> tuple[dict | None, str, float]:
         errors = {n: np.asarray(table.errors[n], dtype=float) for n in SE_COLUMNS}
         if "R" in table.errors:
             errors["R"] = np.asarray(table.errors["R"], dtype=float)
-        used = table.meta.get("realizations_used") or len(table.meta.get("seeds") or ()) or 2
-        return errors, "realizations", float(used - 1)
+        dof = (table.meta.get("errors") or {}).get("se_dof")    # wave_ensemble: N − 1, or N − 2
+        if dof is None:                                          # tables before it: N − 1
+            dof = (table.meta.get("realizations_used") or len(table.meta.get("seeds") or ()) or 2) - 1
+        return errors, "realizations", float(dof)
     tier = table.meta.get("tier")
     model = (table.meta.get("errors") or {}).get("model")
     if tier == "thin-film":

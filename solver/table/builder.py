@@ -166,13 +166,18 @@ def _build_wave(request: TableRequest, opts: BuildOptions) -> InkTable:
     voxels = None
     tier, report = request.wave.tier, {}
     if tier == "auto":
-        # the probe solves realization 0; the other workers draw the next realizations meanwhile
-        # (the rest only once a wave tier is chosen: an effective-medium table needs none)
-        voxels = _geometry(request, opts, timer, range(min(request.wave.realizations, usable_workers(opts.workers))))
-        probe = tier_choice.probe_wavelength_indices(request)
-        full = _solves(request, opts, timer, "full", voxels, [(0, li) for li in probe], "tier_probe")
-        born = _solves(request, opts, timer, "born", voxels, [(0, li) for li in probe], "tier_probe")
-        tier, report = tier_choice.choose(request, full, born, probe, request.grids.solved_sigma_rad)
+        # the probe solves realization 0 (and 1 where 0 solves one polarisation); the other
+        # workers draw the next realizations meanwhile (the rest only once a wave tier is
+        # chosen: an effective-medium table needs none)
+        from .wave_tier import probe_realizations
+        probe_real = probe_realizations(request)
+        voxels = _geometry(request, opts, timer, range(min(request.wave.realizations,
+                                                           max(len(probe_real), usable_workers(opts.workers)))))
+        pairs = [(r, li) for r in probe_real for li in tier_choice.probe_wavelength_indices(request)]
+        full = _solves(request, opts, timer, "full", voxels, pairs, "tier_probe")
+        born = _solves(request, opts, timer, "born", voxels, pairs, "tier_probe")
+        tier, report = tier_choice.choose(request, full, born, [li for _, li in pairs],
+                                          request.grids.solved_sigma_rad)
         log.info("tier for %s: %s (deviations from full solve: %s)", request.describe(), tier,
                  {k: round(v, 5) for k, v in report["deviation"].items()})
     reason = (f"measured: cheapest tier within tolerance {request.wave.tolerance:g}" if report

@@ -33,6 +33,12 @@ SOLVE_BYTES_PER_VOXEL = 620.0
 #: voxel·log2 voxel on this project's 2-core VM, under load, yardstick 1.6 s; docs/tables.md)
 SECONDS_PER_VOXEL_LOG = 5.5e-9
 APPLICATIONS_PER_SOLVE = 14
+#: … at the solver tolerance REFERENCE_TOL; per decade of looser tolerance 27 % fewer: R15 with
+#: 300-nm spheres, default grid, 616 solves: 13.9 / 12.0 / 10.1 applications at 1e-3 / 3e-3 /
+#: 1e-2 (0.87, 0.73 of 1e-3); four cells' units at 3e-3: 0.85–0.91 (docs/tables.md, "The
+#: default preset")
+REFERENCE_TOL = 1e-3
+APPLICATIONS_TOL_SLOPE = 0.27
 #: a rough top's solve (above and below: both counted) against the flat layer's, in CPU time:
 #: with the layered preconditioner (solver/wave/layered.py) 35–40 applications per solve pair
 #: against 2 × 12.8–18.1 for the flat twin, plus the preconditioner's set-up and one more
@@ -122,7 +128,7 @@ def estimate(request: TableRequest, workers: int = 1, geometry_drawn: bool = Fal
         work = 40e6 + 6 * table
         return Estimate(int(table), int(work), 0, 0, MOLECULAR_SECONDS_PER_SAMPLE * nl * ns)
     from ..geometry import geometry_cost
-    from .wave_tier import layer_spec, needs_below
+    from .wave_tier import layer_spec, probe_realizations, solves_per_incidence
 
     w = request.wave
     table = 2 * nl * ns * ns * g.dphi_count * 8 + 2 * columns          # R and its errors
@@ -134,12 +140,14 @@ def estimate(request: TableRequest, workers: int = 1, geometry_drawn: bool = Fal
     geometry_bytes = max((c.peak_bytes for c in geoms), default=0)
     solve_bytes = SOLVE_BASE_BYTES + SOLVE_BYTES_PER_VOXEL * voxels
     solved_wl = len(request.solved_wavelength_indices)          # the rest are film-guided (spectral.py)
-    solves = w.realizations * solved_wl * int(g.solved_mask.sum()) * w.azimuths * (2 if needs_below(request) else 1)
-    per_solve = solve_seconds(w.grid) * (ROUGH_TOP_SOLVE_FACTOR if request.has_rough_top else 1.0)
+    per_incidence = int(g.solved_mask.sum()) * solved_wl
+    solves = per_incidence * solves_per_incidence(request)
+    per_solve = solve_seconds(w.grid, w.solver_tol) * (ROUGH_TOP_SOLVE_FACTOR if request.has_rough_top else 1.0)
     solve_s = solves * per_solve
     if w.tier in ("auto", "born"):
         born = solves * solve_seconds(w.grid) * BORN_SOLVE_APPLICATIONS / APPLICATIONS_PER_SOLVE
-        probe = solves * min(PROBE_WAVELENGTHS, solved_wl) / (solved_wl * w.realizations)   # probe solves
+        probe = (per_incidence * min(PROBE_WAVELENGTHS, solved_wl) / solved_wl       # probe solves
+                 * solves_per_incidence(request, len(probe_realizations(request))))
         if w.tier == "born":
             solve_s = born
         else:
@@ -162,10 +170,16 @@ def full_tier_share(request: TableRequest) -> float:
     return float(min(1.0, max(0.0, (d - FULL_FROM_NM) / (FULL_ALL_NM - FULL_FROM_NM))))
 
 
-def solve_seconds(grid: tuple[int, int, int]) -> float:
-    """Rough CPU seconds of one wave solve on this grid (applications × cost of one)."""
+def solve_seconds(grid: tuple[int, int, int], solver_tol: float = REFERENCE_TOL) -> float:
+    """Rough CPU seconds of one wave solve on this grid at this solver tolerance (applications
+    × cost of one)."""
     voxels = math.prod(grid)
-    return APPLICATIONS_PER_SOLVE * SECONDS_PER_VOXEL_LOG * voxels * math.log2(max(voxels, 2))
+    return applications(solver_tol) * SECONDS_PER_VOXEL_LOG * voxels * math.log2(max(voxels, 2))
+
+
+def applications(solver_tol: float) -> float:
+    """Operator applications per solve at the solver tolerance (APPLICATIONS_TOL_SLOPE)."""
+    return APPLICATIONS_PER_SOLVE * max(0.3, 1.0 - APPLICATIONS_TOL_SLOPE * math.log10(solver_tol / REFERENCE_TOL))
 
 
 def _warn_unresolved(request: TableRequest) -> None:

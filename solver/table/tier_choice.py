@@ -6,7 +6,8 @@ Candidates, cheapest first:
   born              first-order distorted-wave Born approximation on the mean-ε film (one
                     operator application per solve instead of ~20–60).
   full              the converged wave solve.
-A probe runs the full solve for the first realization at a few wavelengths (the most and least
+A probe runs the full solve for the first realization (the first two where each solves one
+polarisation: wave_tier.probe_realizations) at a few wavelengths (the most and least
 absorbing and one between) and every solved σ, and the candidates at the same points; the
 cheapest candidate whose largest deviation in Rbar, Tbar and the diffuse reflectance stays
 within the tolerance is chosen.  The deviations are written into the table's meta.
@@ -54,9 +55,11 @@ def deviation(candidate: dict, reference: dict) -> float:
 
 def choose(request: TableRequest, full_units: list[dict], born_units: list[dict] | None,
            lambda_indices, sigma) -> tuple[str, dict]:
-    """The tier to build and the measured deviations of each candidate from the full solve."""
+    """The tier to build and the measured deviations of each candidate from the full solve.
+    lambda_indices: the wavelength index of each probe unit (in the units' order; a wavelength
+    repeats where two realizations were probed)."""
     reference = _summaries(full_units)
-    report = {"probe_wavelengths_nm": [request.grids.wavelengths_nm[i] for i in lambda_indices],
+    report = {"probe_wavelengths_nm": [request.grids.wavelengths_nm[i] for i in sorted(set(lambda_indices))],
               "tolerance": request.wave.tolerance,
               "deviation": {"effective-medium": deviation(
                   effective_medium_summaries(request, lambda_indices, sigma), reference)}}

@@ -56,14 +56,42 @@ def azimuths(request: TableRequest, realization: int) -> np.ndarray:
     return 0.5 * np.pi * np.mod(s * GOLDEN, 1.0)
 
 
-def samples(request: TableRequest) -> tuple[tuple[int, int], ...]:
+#: with one azimuth per realization, TE and TM alternate over the realizations from this many
+#: on (each polarisation then has ≥ 2 cells, so its spread is known); fewer solve both
+ALTERNATE_FROM_REALIZATIONS = 4
+
+
+def alternates(request: TableRequest) -> bool:
+    """Whether an unpolarised table's polarisations alternate over the global sample index
+    s = r·A + j (realization r, its azimuth j of A): with an even A within every realization
+    (TE, TM, TE, …), with A = 1 across the realizations (realization r solves TE if r is even,
+    TM if odd: every solve its own cell, docs/tables.md "Samples") when there are at least
+    ALTERNATE_FROM_REALIZATIONS.  Otherwise every azimuth is solved in both."""
+    a, n = request.wave.azimuths, request.wave.realizations
+    return request.polarisation != "te" and (a % 2 == 0 or (a == 1 and n >= ALTERNATE_FROM_REALIZATIONS))
+
+
+def samples(request: TableRequest, realization: int = 0) -> tuple[tuple[int, int], ...]:
     """(azimuth index, polarisation) of the solves of one realization at one (λ, σ)."""
     count = request.wave.azimuths
     if request.polarisation == "te":
         return tuple((j, TE) for j in range(count))
-    if count % 2 == 0:
-        return tuple((j, TE if j % 2 == 0 else TM) for j in range(count))
+    if alternates(request):
+        return tuple((j, TE if (realization * count + j) % 2 == 0 else TM) for j in range(count))
     return tuple((j, p) for j in range(count) for p in (TE, TM))
+
+
+def probe_realizations(request: TableRequest) -> tuple[int, ...]:
+    """The realizations the tier probe solves: the first, and the second where the first
+    solves one polarisation only (A = 1 alternating), so the probe sees TE and TM."""
+    both = {p for _, p in samples(request, 0)} == ({TE} if request.polarisation == "te" else {TE, TM})
+    return (0,) if both else (0, 1)
+
+
+def solves_per_incidence(request: TableRequest, realizations: int | None = None) -> int:
+    """Solves of `realizations` (default: the request's) at one (λ, σ), from above and below."""
+    n = request.wave.realizations if realizations is None else realizations
+    return sum(len(samples(request, r)) for r in range(n)) * (2 if needs_below(request) else 1)
 
 
 def layer_spec(request: TableRequest, index: int = 0) -> LayerSpec:
@@ -177,7 +205,7 @@ def solve_unit(unit: SolveUnit) -> dict:
     """All solves of one realization at one wavelength → arrays indexed [σ, sample]."""
     req, vox = unit.request, unit.voxels
     wl = req.grids.wavelengths_nm[unit.wavelength_index]
-    sig, phis, todo = req.grids.solved_sigma_rad, azimuths(req, unit.realization), samples(req)
+    sig, phis, todo = req.grids.solved_sigma_rad, azimuths(req, unit.realization), samples(req, unit.realization)
     below = needs_below(req)
     cell = Cell(cell_eps(req, vox, wl), tuple(vox.period_nm), tuple(vox.z_range_nm))
     eps_nominal, eps_faces = nominal_eps(req, wl), face_eps(req, wl)
