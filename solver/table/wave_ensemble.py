@@ -16,6 +16,8 @@ vanishes, the beam is mirrored (R_spec = 1, T = 0, R = 0; r_s = r_p = −1 in e^
 
 Standard errors are taken across realizations (a realization's samples are first combined,
 since they share a cell); R_spec's by jackknife.  One realization: unknown, none stored.
+The builder (`builder._reduce`) also reduces each leave-one-out ensemble with `reduce_units`
+(`jackknife.reduce_with_replicas`) and stores their colour columns in the table.
 """
 
 from __future__ import annotations
