@@ -7,8 +7,10 @@
 1. plan: cells and estimated build time of Fig. 7, 8 and 9 at each accuracy preset (the table
    preflight's model; with 2 workers and 16), nothing built;
 2. standard error: one small particle cell built with K seeds; the spread of its CIELAB across
-   seeds against the propagated standard error of one table (independent, per-column
-   correlated, and the larger — what the CSV reports);
+   seeds against the standard error of one table: the jackknife over its realizations (what the
+   CSV reports) and the propagated bounds (independent, per-column correlated, and the larger —
+   what it reported before); se-cylinders: the same for B30 with in-plane 200-nm cylinders at
+   preview (16 seeds, ~2 min; not in the default run);
 3. drawing: one Fig. 6 cell and one colour + SE for a particle and a molecular table on the
    default grids, and composing and writing a full 21 × 17 Fig. 7 (one table in every cell,
    so only drawing is timed);
@@ -35,7 +37,7 @@ from pathlib import Path
 
 import numpy as np
 
-from solver.colour.table_colour import lab_jacobian, node_errors, propagate_se, table_colour
+from solver.colour.table_colour import SE_MODES, lab_jacobian, node_errors, propagate_se, table_colour
 from solver.paper import PAPER_ALBEDO
 from solver.apps.figures.cells import CellResult, FigureSettings, estimates, plan_cells
 from solver.apps.figures.fig6 import DPHI_SAMPLES, azimuth_averaged, figure6, pixel_angles_rad
@@ -50,9 +52,12 @@ from solver.table.request import ACCURACY, table_request
 
 OUT = Path("out/bench")
 SE_CELL = ("Y7.5+B7.5", "sphere:300")
-SE_SETTINGS = dict(wavelengths_nm=(420.0, 480.0, 540.0, 600.0, 660.0), sigma_rad=tuple(np.radians([0, 40, 90])),
+#: 5 λ across 380–780 nm (a colour needs 400–700 nm: the 420–660 nm of earlier rounds is refused now)
+SE_SETTINGS = dict(wavelengths_nm=(380.0, 480.0, 580.0, 680.0, 780.0), sigma_rad=tuple(np.radians([0, 40, 90])),
                    grid=(24, 24, 12), realizations=3, azimuths=1, tier="full")
-SE_SEEDS = 8
+SE_SEEDS = 24
+SE_CYLINDER_CELL = ("B30", "cylinder:200:inplane")
+SE_CYLINDER_SEEDS = 16
 
 
 def _figure_estimate(plans, workers: int) -> float:
@@ -80,28 +85,54 @@ def plan_costs() -> None:
 
 def se_check(cache: TableCache) -> None:
     ink, particles = SE_CELL
-    print(f"\n2. standard error of the colour: {ink} {particles}, {SE_SETTINGS['realizations']} realizations, "
-          f"grid {SE_SETTINGS['grid']}, {len(SE_SETTINGS['wavelengths_nm'])} λ, {SE_SEEDS} seeds")
-    labs, se = [], {m: [] for m in ("independent", "correlated", "larger")}
+    title = (f"\n2. standard error of the colour: {ink} {particles}, {SE_SETTINGS['realizations']} realizations, "
+             f"grid {SE_SETTINGS['grid']}, {len(SE_SETTINGS['wavelengths_nm'])} λ, {SE_SEEDS} seeds")
+    _se_against_seeds(title, [table_request(ink, particles, seed=seed, **SE_SETTINGS)
+                              for seed in range(1, SE_SEEDS + 1)], cache)
+
+
+def se_check_cylinders(cache: TableCache) -> None:
+    """The cell whose propagated bounds disagree most (2.08 against 0.38 in a*): B30, in-plane
+    200-nm cylinders, as Fig. 7 builds it at preview (2 realizations), over SE_CYLINDER_SEEDS seeds."""
+    ink, particles = SE_CYLINDER_CELL
+    settings = lambda seed: FigureSettings("preview", (("seed", seed),))
+    title = f"\n2b. standard error of the colour: {ink} {particles} at preview (Fig. 7's request), {SE_CYLINDER_SEEDS} seeds"
+    _se_against_seeds(title, [settings(seed).request(ink, particles) for seed in range(1, SE_CYLINDER_SEEDS + 1)],
+                      cache)
+
+
+def _se_against_seeds(title: str, requests, cache: TableCache) -> None:
+    """One table per request (the same cell, other seeds): the spread of the colour across them
+    (the truth) against each table's own standard error — the jackknife over its realizations
+    (what the CSV reports now; root mean square over the tables) and the two propagated bounds
+    and their larger (what it reported before)."""
+    print(title)
+    labs, se = [], {m: [] for m in ("jackknife", "independent", "correlated", "larger")}
     t0 = time.perf_counter()
-    for seed in range(1, SE_SEEDS + 1):
-        table = build_table(table_request(ink, particles, seed=seed, **SE_SETTINGS),
-                            BuildOptions(progress=False, cache=cache))
-        labs.append(table_colour(table, PAPER_ALBEDO).lab)
+    for request in requests:
+        table = build_table(request, BuildOptions(progress=False, cache=cache))
+        colour = table_colour(table, PAPER_ALBEDO)
+        labs.append(colour.lab)
+        se["jackknife"].append(colour.se if colour.method == "jackknife" else np.full(3, np.nan))
         errors, _, _ = node_errors(table)
         jac = lab_jacobian(table, PAPER_ALBEDO)
-        for mode in se:
+        for mode in SE_MODES:
             se[mode].append(propagate_se(jac, errors, mode))
+    k = len(requests)
     spread = np.std(labs, axis=0, ddof=1)
-    print(f"   built in {time.perf_counter() - t0:.0f} s; spread across seeds has ±{100 / np.sqrt(2 * (SE_SEEDS - 1)):.0f} % "
-          "sampling error")
-    print(f"   {'':28s} {'L*':>7s} {'a*':>7s} {'b*':>7s}")
-    print(f"   {'observed spread (seeds)':28s} " + " ".join(f"{v:7.3f}" for v in spread))
+    dof = k * (table.meta["realizations_used"] - 1)
+    print(f"   built in {time.perf_counter() - t0:.0f} s; the spread across {k} seeds has ±{100 / np.sqrt(2 * (k - 1)):.0f} % "
+          f"sampling error, the jackknife's root mean square (over {dof} degrees of freedom) ±{100 / np.sqrt(2 * dof):.0f} %")
+    print(f"   {'':34s} {'L*':>7s} {'a*':>7s} {'b*':>7s}")
+    print(f"   {'observed spread (seeds)':34s} " + " ".join(f"{v:7.3f}" for v in spread))
     for mode, values in se.items():
-        mean = np.mean(values, axis=0)
-        label = f"propagated SE, {mode}" + (" (CSV)" if mode == "larger" else "")
-        print(f"   {label:28s} " + " ".join(f"{v:7.3f}" for v in mean) + "   ratio to observed "
-              + " ".join(f"{r:4.2f}" for r in mean / spread))
+        rms = np.sqrt(np.mean(np.square(values), axis=0))
+        label = ("jackknife SE (the CSV), rms" if mode == "jackknife" else
+                 f"propagated SE, {mode}" + (" (before)" if mode == "larger" else ""))
+        print(f"   {label:34s} " + " ".join(f"{v:7.3f}" for v in rms) + "   ratio to observed "
+              + " ".join(f"{r:4.2f}" for r in rms / spread))
+    print(f"   per table, jackknife a* SE: " + " ".join(f"{v[1]:.2f}" for v in se["jackknife"])
+          + "; larger bound: " + " ".join(f"{v[1]:.2f}" for v in se["larger"]))
 
 
 def drawing(cache: TableCache) -> None:
@@ -338,7 +369,8 @@ def fig7_sample(quick: bool = False, accuracy: str = "default") -> None:
 
 def main(argv=None) -> int:
     cache = TableCache(Path(tempfile.mkdtemp(prefix="figures_")))
-    sections = {"plan": plan_costs, "se": lambda: se_check(cache), "draw": lambda: drawing(cache),
+    sections = {"plan": plan_costs, "se": lambda: se_check(cache),
+                "se-cylinders": lambda: se_check_cylinders(cache), "draw": lambda: drawing(cache),
                 "presets": preset_errors, "fig7": fig7_preview, "steps": map_steps,
                 "compare": preview_vs_default, "sample": fig7_sample,
                 "sample-quick": lambda: fig7_sample(quick=True),
@@ -346,7 +378,7 @@ def main(argv=None) -> int:
                 "presets-span": lambda: preset_errors(SPAN_PRESET_CELLS),
                 "candidates": candidate_errors}
     for name in (argv or [n for n in sections if not n.startswith("sample") and not n.startswith("presets-")
-                            and n != "candidates"]):
+                            and n not in ("candidates", "se-cylinders")]):
         sections[name]()
     return 0
 

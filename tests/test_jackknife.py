@@ -148,3 +148,27 @@ def test_a_built_table_holds_its_refined_leave_one_out_ensembles(tmp_path):
                                    table.errors[name][solved], rtol=1e-3, atol=1e-6)
     colour = table_colour(table, 0.9)
     assert colour.method == "jackknife" and colour.dof == 2.0 and np.all(colour.se > 0)
+
+
+def test_the_csv_records_the_method_and_reads_csvs_without_it(tmp_path):
+    """se_method goes to the figures' CSV; a CSV of an earlier version (no such column) still
+    reads, with the method unrecorded ("")."""
+    import csv
+
+    from solver.apps.figures.records import FIELDS, CellRecord, read_csv, write_csv
+
+    lab = np.array([50.0, 10.0, 5.0])
+    rec = CellRecord("fig7", "default", "B30", "cylinder:200:inplane", "c", "c", None, "preview", "full", "ok",
+                     "45:0/D50/2°", lab, np.full(3, 0.5), "realizations", 1.0, lab, np.full(3, 0.2), "k", False,
+                     1.0, se_method="jackknife")
+    path = write_csv([rec], tmp_path / "new.csv")
+    assert read_csv(path)[0].se_method == "jackknife"
+    with open(path, newline="", encoding="utf-8") as fh:
+        rows = list(csv.DictReader(fh))
+    old = tmp_path / "old.csv"
+    with open(old, "w", newline="", encoding="utf-8") as fh:
+        w = csv.DictWriter(fh, [k for k in FIELDS if k != "se_method"], extrasaction="ignore")
+        w.writeheader()
+        w.writerows(rows)
+    back = read_csv(old)[0]
+    assert back.se_method == "" and back.se_source == "realizations" and back.se_dof == 1.0
