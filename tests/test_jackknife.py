@@ -172,3 +172,15 @@ def test_the_csv_records_the_method_and_reads_csvs_without_it(tmp_path):
         w.writerows(rows)
     back = read_csv(old)[0]
     assert back.se_method == "" and back.se_source == "realizations" and back.se_dof == 1.0
+
+
+def test_show_names_how_the_colour_se_is_known():
+    from solver.apps.cli.show import colour_lines
+
+    base = diffuse_layer_table(lossless=False, n_lambda=9, n_angle=6)
+    real = _ensemble(base, np.random.default_rng(4), 3)
+    table = jackknife.attach(_table_of(base, real), [_table_of(base, rest) for rest in jackknife.leave_one_out(real)])
+    line = colour_lines(table, 0.9, M.DEFAULT)[-1]
+    assert line.startswith("  standard error of the * colour: L* ")
+    assert "(jackknife over 3 realizations: 2 degrees of freedom)" in line
+    assert "unknown (one realization)" in colour_lines(base, 0.9, M.DEFAULT)[-1]
