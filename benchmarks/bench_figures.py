@@ -10,7 +10,8 @@
    seeds against the standard error of one table: the jackknife over its realizations (what the
    CSV reports) and the propagated bounds (independent, per-column correlated, and the larger —
    what it reported before); se-cylinders: the same for B30 with in-plane 200-nm cylinders at
-   preview (16 seeds, ~2 min; not in the default run);
+   preview (16 seeds, ~2 min), se-cylinders-default: at `default` (12 seeds, 4 realizations; ~2 min),
+   se-rotated: the same with each seed's incidence azimuths turned (~2 min); none in the default run;
 3. drawing: one Fig. 6 cell and one colour + SE for a particle and a molecular table on the
    default grids, and composing and writing a full 21 × 17 Fig. 7 (one table in every cell,
    so only drawing is timed);
@@ -91,17 +92,40 @@ def se_check(cache: TableCache) -> None:
                               for seed in range(1, SE_SEEDS + 1)], cache)
 
 
-def se_check_cylinders(cache: TableCache) -> None:
-    """The cell whose propagated bounds disagree most (2.08 against 0.38 in a*): B30, in-plane
-    200-nm cylinders, as Fig. 7 builds it at preview (2 realizations), over SE_CYLINDER_SEEDS seeds."""
+def se_check_cylinders(cache: TableCache, accuracy: str = "preview", seeds: int = SE_CYLINDER_SEEDS) -> None:
+    """The cell whose propagated bounds disagree most (2.08 against 0.38 in a* at preview): B30,
+    in-plane 200-nm cylinders, as Fig. 7 builds it at `accuracy`, over `seeds` seeds."""
     ink, particles = SE_CYLINDER_CELL
-    settings = lambda seed: FigureSettings("preview", (("seed", seed),))
-    title = f"\n2b. standard error of the colour: {ink} {particles} at preview (Fig. 7's request), {SE_CYLINDER_SEEDS} seeds"
-    _se_against_seeds(title, [settings(seed).request(ink, particles) for seed in range(1, SE_CYLINDER_SEEDS + 1)],
-                      cache)
+    settings = lambda seed: FigureSettings(accuracy, (("seed", seed),))
+    title = f"\n2b. standard error of the colour: {ink} {particles} at {accuracy} (Fig. 7's request), {seeds} seeds"
+    _se_against_seeds(title, [settings(seed).request(ink, particles) for seed in range(1, seeds + 1)], cache)
 
 
-def _se_against_seeds(title: str, requests, cache: TableCache) -> None:
+def se_check_rotated_azimuths(cache: TableCache, accuracy: str = "default", seeds: int = 12) -> None:
+    """se-cylinders with the seed spread widened to the incidence azimuths too: each seed's
+    golden-ratio azimuth sequence (wave_tier.azimuths, the same for every seed) turned by an
+    offset drawn from the seed — does the azimuth sampling explain a jackknife above the seed
+    spread?  In this process only (1 worker) and in a cache of its own."""
+    import contextlib
+    import solver.table.wave_tier as wave_tier
+
+    def rotated(request, realization):
+        s = realization * request.wave.azimuths + np.arange(request.wave.azimuths)
+        offset = np.random.default_rng([request.wave.seed, 99]).uniform()
+        return 0.5 * np.pi * np.mod(s * wave_tier.GOLDEN + offset, 1.0)
+
+    ink, particles = SE_CYLINDER_CELL
+    own = TableCache(Path(tempfile.mkdtemp(prefix="figures_rotated_")))
+    with contextlib.ExitStack() as stack:
+        original = wave_tier.azimuths
+        stack.callback(setattr, wave_tier, "azimuths", original)
+        wave_tier.azimuths = rotated
+        _se_against_seeds(f"\n2c. as 2b at {accuracy}, each seed's azimuths turned by its own offset, {seeds} seeds",
+                          [FigureSettings(accuracy, (("seed", seed),)).request(ink, particles)
+                           for seed in range(1, seeds + 1)], own, workers=1)
+
+
+def _se_against_seeds(title: str, requests, cache: TableCache, workers: int | None = None) -> None:
     """One table per request (the same cell, other seeds): the spread of the colour across them
     (the truth) against each table's own standard error — the jackknife over its realizations
     (what the CSV reports now; root mean square over the tables) and the two propagated bounds
@@ -110,7 +134,9 @@ def _se_against_seeds(title: str, requests, cache: TableCache) -> None:
     labs, se = [], {m: [] for m in ("jackknife", "independent", "correlated", "larger")}
     t0 = time.perf_counter()
     for request in requests:
-        table = build_table(request, BuildOptions(progress=False, cache=cache))
+        opts = BuildOptions(progress=False, cache=cache) if workers is None else \
+            BuildOptions(progress=False, cache=cache, workers=workers)
+        table = build_table(request, opts)
         colour = table_colour(table, PAPER_ALBEDO)
         labs.append(colour.lab)
         se["jackknife"].append(colour.se if colour.method == "jackknife" else np.full(3, np.nan))
@@ -370,7 +396,9 @@ def fig7_sample(quick: bool = False, accuracy: str = "default") -> None:
 def main(argv=None) -> int:
     cache = TableCache(Path(tempfile.mkdtemp(prefix="figures_")))
     sections = {"plan": plan_costs, "se": lambda: se_check(cache),
-                "se-cylinders": lambda: se_check_cylinders(cache), "draw": lambda: drawing(cache),
+                "se-cylinders": lambda: se_check_cylinders(cache),
+                "se-cylinders-default": lambda: se_check_cylinders(cache, "default", 12),
+                "se-rotated": lambda: se_check_rotated_azimuths(cache), "draw": lambda: drawing(cache),
                 "presets": preset_errors, "fig7": fig7_preview, "steps": map_steps,
                 "compare": preview_vs_default, "sample": fig7_sample,
                 "sample-quick": lambda: fig7_sample(quick=True),
@@ -378,7 +406,7 @@ def main(argv=None) -> int:
                 "presets-span": lambda: preset_errors(SPAN_PRESET_CELLS),
                 "candidates": candidate_errors}
     for name in (argv or [n for n in sections if not n.startswith("sample") and not n.startswith("presets-")
-                            and n not in ("candidates", "se-cylinders")]):
+                            and n not in ("candidates", "se-cylinders", "se-cylinders-default", "se-rotated")]):
         sections[name]()
     return 0
 
