@@ -10,8 +10,10 @@
    seeds against the standard error of one table: the jackknife over its realizations (what the
    CSV reports) and the propagated bounds (independent, per-column correlated, and the larger —
    what it reported before); se-cylinders: the same for B30 with in-plane 200-nm cylinders at
-   preview (16 seeds, ~2 min), se-cylinders-default: at `default` (12 seeds, 4 realizations; ~2 min),
-   se-rotated: the same with each seed's incidence azimuths turned (~2 min); none in the default run;
+   preview (16 seeds, ~2 min), se-cylinders-default: at `default` (36 seeds, 4 realizations; ~5 min),
+   se-rotated: the same with each seed's incidence azimuths turned (~2 min); se-singles: each
+   realization of 12 default tables reduced alone (linearity; azimuths by index; ~2 min); none
+   of the se-* sections in the default run;
 3. drawing: one Fig. 6 cell and one colour + SE for a particle and a molecular table on the
    default grids, and composing and writing a full 21 × 17 Fig. 7 (one table in every cell,
    so only drawing is timed);
@@ -123,6 +125,40 @@ def se_check_rotated_azimuths(cache: TableCache, accuracy: str = "default", seed
         _se_against_seeds(f"\n2c. as 2b at {accuracy}, each seed's azimuths turned by its own offset, {seeds} seeds",
                           [FigureSettings(accuracy, (("seed", seed),)).request(ink, particles)
                            for seed in range(1, seeds + 1)], own, workers=1)
+
+
+def se_singles(cache: TableCache, accuracy: str = "default", seeds: int = 12) -> None:
+    """Is the reduction linear enough for the jackknife, and does a realization's index (its
+    incidence azimuths) matter?  For each seed's table of SE_CYLINDER_CELL, each realization
+    reduced alone by the builder's own `_reduce` (its units, refined the same way): the mean of
+    their a* against the table's, SD/√N against the jackknife; then a one-way ANOVA of all
+    realizations' a* by realization index."""
+    from solver.table.builder import _reduce, _Timer
+
+    ink, particles = SE_CYLINDER_CELL
+    print(f"\n2d. {ink} {particles} at {accuracy}: each realization alone, {seeds} seeds")
+    singles_all = []
+    for seed in range(1, seeds + 1):
+        request = FigureSettings(accuracy, (("seed", seed),)).request(ink, particles)
+        table = build_table(request, BuildOptions(progress=False, cache=cache))
+        wl = list(request.grids.wavelengths_nm)
+        solved = [wl.index(w) for w in table.meta.get("solved_wavelengths_nm", wl)]
+        method, n = ("born" if table.meta["tier"] == "born" else "full"), table.meta["realizations_used"]
+        a = []
+        for r in range(n):
+            units = {(0, li): cache.load_part(request, f"{method}_r{r}_l{li}") for li in solved}
+            alone, _ = _reduce(request, table.meta["tier"], "", {}, units, solved, 1, _Timer())
+            a.append(table_colour(alone, PAPER_ALBEDO).lab[1])
+        colour = table_colour(table, PAPER_ALBEDO)
+        singles_all.append(a)
+        print(f"   seed {seed:2d}: a* {colour.lab[1]:7.2f}, mean of its realizations' {np.mean(a):7.2f}; "
+              f"SD/√N {np.std(a, ddof=1) / np.sqrt(n):.2f}, jackknife {colour.se[1]:.2f}")
+    x = np.array(singles_all)                       # [seed, realization]
+    k, m = x.shape[1], x.size
+    between = x.shape[0] * np.var(x.mean(axis=0), ddof=1)
+    within = np.mean(np.var(x, axis=0, ddof=1))
+    print(f"   a* by realization index: means {' '.join(f'{v:.2f}' for v in x.mean(axis=0))}; "
+          f"F = {between / within:.2f} at {k - 1} and {m - k} degrees of freedom")
 
 
 def _se_against_seeds(title: str, requests, cache: TableCache, workers: int | None = None) -> None:
@@ -397,8 +433,9 @@ def main(argv=None) -> int:
     cache = TableCache(Path(tempfile.mkdtemp(prefix="figures_")))
     sections = {"plan": plan_costs, "se": lambda: se_check(cache),
                 "se-cylinders": lambda: se_check_cylinders(cache),
-                "se-cylinders-default": lambda: se_check_cylinders(cache, "default", 12),
-                "se-rotated": lambda: se_check_rotated_azimuths(cache), "draw": lambda: drawing(cache),
+                "se-cylinders-default": lambda: se_check_cylinders(cache, "default", 36),
+                "se-rotated": lambda: se_check_rotated_azimuths(cache),
+                "se-singles": lambda: se_singles(cache), "draw": lambda: drawing(cache),
                 "presets": preset_errors, "fig7": fig7_preview, "steps": map_steps,
                 "compare": preview_vs_default, "sample": fig7_sample,
                 "sample-quick": lambda: fig7_sample(quick=True),
@@ -406,7 +443,7 @@ def main(argv=None) -> int:
                 "presets-span": lambda: preset_errors(SPAN_PRESET_CELLS),
                 "candidates": candidate_errors}
     for name in (argv or [n for n in sections if not n.startswith("sample") and not n.startswith("presets-")
-                            and n not in ("candidates", "se-cylinders", "se-cylinders-default", "se-rotated")]):
+                            and not n.startswith("se-") and n != "candidates"]):
         sections[name]()
     return 0
 
