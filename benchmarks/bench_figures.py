@@ -7,8 +7,13 @@
 1. plan: cells and estimated build time of Fig. 7, 8 and 9 at each accuracy preset (the table
    preflight's model; with 2 workers and 16), nothing built;
 2. standard error: one small particle cell built with K seeds; the spread of its CIELAB across
-   seeds against the propagated standard error of one table (independent, per-column
-   correlated, and the larger — what the CSV reports);
+   seeds against the standard error of one table: the jackknife over its realizations (what the
+   CSV reports) and the propagated bounds (independent, per-column correlated, and the larger —
+   what it reported before); se-cylinders: the same for B30 with in-plane 200-nm cylinders at
+   preview (16 seeds, ~2 min), se-cylinders-default: at `default` (36 seeds, 4 realizations; ~5 min),
+   se-rotated: the same with each seed's incidence azimuths turned (~2 min); se-singles: each
+   realization of 12 default tables reduced alone (linearity; azimuths by index; ~2 min); none
+   of the se-* sections in the default run;
 3. drawing: one Fig. 6 cell and one colour + SE for a particle and a molecular table on the
    default grids, and composing and writing a full 21 × 17 Fig. 7 (one table in every cell,
    so only drawing is timed);
@@ -35,7 +40,7 @@ from pathlib import Path
 
 import numpy as np
 
-from solver.colour.table_colour import lab_jacobian, node_errors, propagate_se, table_colour
+from solver.colour.table_colour import SE_MODES, lab_jacobian, node_errors, propagate_se, table_colour
 from solver.paper import PAPER_ALBEDO
 from solver.apps.figures.cells import CellResult, FigureSettings, estimates, plan_cells
 from solver.apps.figures.fig6 import DPHI_SAMPLES, azimuth_averaged, figure6, pixel_angles_rad
@@ -50,9 +55,12 @@ from solver.table.request import ACCURACY, table_request
 
 OUT = Path("out/bench")
 SE_CELL = ("Y7.5+B7.5", "sphere:300")
-SE_SETTINGS = dict(wavelengths_nm=(420.0, 480.0, 540.0, 600.0, 660.0), sigma_rad=tuple(np.radians([0, 40, 90])),
+#: 5 λ across 380–780 nm (a colour needs 400–700 nm: the 420–660 nm of earlier rounds is refused now)
+SE_SETTINGS = dict(wavelengths_nm=(380.0, 480.0, 580.0, 680.0, 780.0), sigma_rad=tuple(np.radians([0, 40, 90])),
                    grid=(24, 24, 12), realizations=3, azimuths=1, tier="full")
-SE_SEEDS = 8
+SE_SEEDS = 24
+SE_CYLINDER_CELL = ("B30", "cylinder:200:inplane")
+SE_CYLINDER_SEEDS = 16
 
 
 def _figure_estimate(plans, workers: int) -> float:
@@ -80,28 +88,113 @@ def plan_costs() -> None:
 
 def se_check(cache: TableCache) -> None:
     ink, particles = SE_CELL
-    print(f"\n2. standard error of the colour: {ink} {particles}, {SE_SETTINGS['realizations']} realizations, "
-          f"grid {SE_SETTINGS['grid']}, {len(SE_SETTINGS['wavelengths_nm'])} λ, {SE_SEEDS} seeds")
-    labs, se = [], {m: [] for m in ("independent", "correlated", "larger")}
+    title = (f"\n2. standard error of the colour: {ink} {particles}, {SE_SETTINGS['realizations']} realizations, "
+             f"grid {SE_SETTINGS['grid']}, {len(SE_SETTINGS['wavelengths_nm'])} λ, {SE_SEEDS} seeds")
+    _se_against_seeds(title, [table_request(ink, particles, seed=seed, **SE_SETTINGS)
+                              for seed in range(1, SE_SEEDS + 1)], cache)
+
+
+def se_check_cylinders(cache: TableCache, accuracy: str = "preview", seeds: int = SE_CYLINDER_SEEDS) -> None:
+    """The cell whose propagated bounds disagree most (2.08 against 0.38 in a* at preview): B30,
+    in-plane 200-nm cylinders, as Fig. 7 builds it at `accuracy`, over `seeds` seeds."""
+    ink, particles = SE_CYLINDER_CELL
+    settings = lambda seed: FigureSettings(accuracy, (("seed", seed),))
+    title = f"\n2b. standard error of the colour: {ink} {particles} at {accuracy} (Fig. 7's request), {seeds} seeds"
+    _se_against_seeds(title, [settings(seed).request(ink, particles) for seed in range(1, seeds + 1)], cache)
+
+
+def se_check_rotated_azimuths(cache: TableCache, accuracy: str = "default", seeds: int = 12) -> None:
+    """se-cylinders with the seed spread widened to the incidence azimuths too: each seed's
+    golden-ratio azimuth sequence (wave_tier.azimuths, the same for every seed) turned by an
+    offset drawn from the seed — does the azimuth sampling explain a jackknife above the seed
+    spread?  In this process only (1 worker) and in a cache of its own."""
+    import contextlib
+    import solver.table.wave_tier as wave_tier
+
+    def rotated(request, realization):
+        s = realization * request.wave.azimuths + np.arange(request.wave.azimuths)
+        offset = np.random.default_rng([request.wave.seed, 99]).uniform()
+        return 0.5 * np.pi * np.mod(s * wave_tier.GOLDEN + offset, 1.0)
+
+    ink, particles = SE_CYLINDER_CELL
+    own = TableCache(Path(tempfile.mkdtemp(prefix="figures_rotated_")))
+    with contextlib.ExitStack() as stack:
+        original = wave_tier.azimuths
+        stack.callback(setattr, wave_tier, "azimuths", original)
+        wave_tier.azimuths = rotated
+        _se_against_seeds(f"\n2c. as 2b at {accuracy}, each seed's azimuths turned by its own offset, {seeds} seeds",
+                          [FigureSettings(accuracy, (("seed", seed),)).request(ink, particles)
+                           for seed in range(1, seeds + 1)], own, workers=1)
+
+
+def se_singles(cache: TableCache, accuracy: str = "default", seeds: int = 12) -> None:
+    """Is the reduction linear enough for the jackknife, and does a realization's index (its
+    incidence azimuths) matter?  For each seed's table of SE_CYLINDER_CELL, each realization
+    reduced alone by the builder's own `_reduce` (its units, refined the same way): the mean of
+    their a* against the table's, SD/√N against the jackknife; then a one-way ANOVA of all
+    realizations' a* by realization index."""
+    from solver.table.builder import _reduce, _Timer
+
+    ink, particles = SE_CYLINDER_CELL
+    print(f"\n2d. {ink} {particles} at {accuracy}: each realization alone, {seeds} seeds")
+    singles_all = []
+    for seed in range(1, seeds + 1):
+        request = FigureSettings(accuracy, (("seed", seed),)).request(ink, particles)
+        table = build_table(request, BuildOptions(progress=False, cache=cache))
+        wl = list(request.grids.wavelengths_nm)
+        solved = [wl.index(w) for w in table.meta.get("solved_wavelengths_nm", wl)]
+        method, n = ("born" if table.meta["tier"] == "born" else "full"), table.meta["realizations_used"]
+        a = []
+        for r in range(n):
+            units = {(0, li): cache.load_part(request, f"{method}_r{r}_l{li}") for li in solved}
+            alone, _ = _reduce(request, table.meta["tier"], "", {}, units, solved, 1, _Timer())
+            a.append(table_colour(alone, PAPER_ALBEDO).lab[1])
+        colour = table_colour(table, PAPER_ALBEDO)
+        singles_all.append(a)
+        print(f"   seed {seed:2d}: a* {colour.lab[1]:7.2f}, mean of its realizations' {np.mean(a):7.2f}; "
+              f"SD/√N {np.std(a, ddof=1) / np.sqrt(n):.2f}, jackknife {colour.se[1]:.2f}")
+    x = np.array(singles_all)                       # [seed, realization]
+    k, m = x.shape[1], x.size
+    between = x.shape[0] * np.var(x.mean(axis=0), ddof=1)
+    within = np.mean(np.var(x, axis=0, ddof=1))
+    print(f"   a* by realization index: means {' '.join(f'{v:.2f}' for v in x.mean(axis=0))}; "
+          f"F = {between / within:.2f} at {k - 1} and {m - k} degrees of freedom")
+
+
+def _se_against_seeds(title: str, requests, cache: TableCache, workers: int | None = None) -> None:
+    """One table per request (the same cell, other seeds): the spread of the colour across them
+    (the truth) against each table's own standard error — the jackknife over its realizations
+    (what the CSV reports now; root mean square over the tables) and the two propagated bounds
+    and their larger (what it reported before)."""
+    print(title)
+    labs, se = [], {m: [] for m in ("jackknife", "independent", "correlated", "larger")}
     t0 = time.perf_counter()
-    for seed in range(1, SE_SEEDS + 1):
-        table = build_table(table_request(ink, particles, seed=seed, **SE_SETTINGS),
-                            BuildOptions(progress=False, cache=cache))
-        labs.append(table_colour(table, PAPER_ALBEDO).lab)
+    for request in requests:
+        opts = BuildOptions(progress=False, cache=cache) if workers is None else \
+            BuildOptions(progress=False, cache=cache, workers=workers)
+        table = build_table(request, opts)
+        colour = table_colour(table, PAPER_ALBEDO)
+        labs.append(colour.lab)
+        se["jackknife"].append(colour.se if colour.method == "jackknife" else np.full(3, np.nan))
         errors, _, _ = node_errors(table)
         jac = lab_jacobian(table, PAPER_ALBEDO)
-        for mode in se:
+        for mode in SE_MODES:
             se[mode].append(propagate_se(jac, errors, mode))
+    k = len(requests)
     spread = np.std(labs, axis=0, ddof=1)
-    print(f"   built in {time.perf_counter() - t0:.0f} s; spread across seeds has ±{100 / np.sqrt(2 * (SE_SEEDS - 1)):.0f} % "
-          "sampling error")
-    print(f"   {'':28s} {'L*':>7s} {'a*':>7s} {'b*':>7s}")
-    print(f"   {'observed spread (seeds)':28s} " + " ".join(f"{v:7.3f}" for v in spread))
+    dof = k * (table.meta["realizations_used"] - 1)
+    print(f"   built in {time.perf_counter() - t0:.0f} s; the spread across {k} seeds has ±{100 / np.sqrt(2 * (k - 1)):.0f} % "
+          f"sampling error, the jackknife's root mean square (over {dof} degrees of freedom) ±{100 / np.sqrt(2 * dof):.0f} %")
+    print(f"   {'':34s} {'L*':>7s} {'a*':>7s} {'b*':>7s}")
+    print(f"   {'observed spread (seeds)':34s} " + " ".join(f"{v:7.3f}" for v in spread))
     for mode, values in se.items():
-        mean = np.mean(values, axis=0)
-        label = f"propagated SE, {mode}" + (" (CSV)" if mode == "larger" else "")
-        print(f"   {label:28s} " + " ".join(f"{v:7.3f}" for v in mean) + "   ratio to observed "
-              + " ".join(f"{r:4.2f}" for r in mean / spread))
+        rms = np.sqrt(np.mean(np.square(values), axis=0))
+        label = ("jackknife SE (the CSV), rms" if mode == "jackknife" else
+                 f"propagated SE, {mode}" + (" (before)" if mode == "larger" else ""))
+        print(f"   {label:34s} " + " ".join(f"{v:7.3f}" for v in rms) + "   ratio to observed "
+              + " ".join(f"{r:4.2f}" for r in rms / spread))
+    print(f"   per table, jackknife a* SE: " + " ".join(f"{v[1]:.2f}" for v in se["jackknife"])
+          + "; larger bound: " + " ".join(f"{v[1]:.2f}" for v in se["larger"]))
 
 
 def drawing(cache: TableCache) -> None:
@@ -338,7 +431,11 @@ def fig7_sample(quick: bool = False, accuracy: str = "default") -> None:
 
 def main(argv=None) -> int:
     cache = TableCache(Path(tempfile.mkdtemp(prefix="figures_")))
-    sections = {"plan": plan_costs, "se": lambda: se_check(cache), "draw": lambda: drawing(cache),
+    sections = {"plan": plan_costs, "se": lambda: se_check(cache),
+                "se-cylinders": lambda: se_check_cylinders(cache),
+                "se-cylinders-default": lambda: se_check_cylinders(cache, "default", 36),
+                "se-rotated": lambda: se_check_rotated_azimuths(cache),
+                "se-singles": lambda: se_singles(cache), "draw": lambda: drawing(cache),
                 "presets": preset_errors, "fig7": fig7_preview, "steps": map_steps,
                 "compare": preview_vs_default, "sample": fig7_sample,
                 "sample-quick": lambda: fig7_sample(quick=True),
@@ -346,7 +443,7 @@ def main(argv=None) -> int:
                 "presets-span": lambda: preset_errors(SPAN_PRESET_CELLS),
                 "candidates": candidate_errors}
     for name in (argv or [n for n in sections if not n.startswith("sample") and not n.startswith("presets-")
-                            and n != "candidates"]):
+                            and not n.startswith("se-") and n != "candidates"]):
         sections[name]()
     return 0
 

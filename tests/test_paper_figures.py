@@ -129,6 +129,7 @@ def test_tiny_fig7_layout_csv_and_cache_hits(tmp_path, monkeypatch):
         tables.append(table)
     assert rows[0]["se_source"] == "exact" and all(float(rows[0][k]) == 0 for k in ("L_se", "a_se", "b_se"))
     assert rows[1]["se_source"] == "realizations" and float(rows[1]["L_se"]) > 0
+    assert rows[0]["se_method"] == "exact" and rows[1]["se_method"] == "jackknife"       # a wave table's replicas
     assert rows[2]["particles"] == "sphere:300:rough=0.5" and rows[2]["grains"] == "Balls 300 nm rough surface"
     assert rows[1]["tier"] == "full" and "grid=16x16x8" in rows[1]["accuracy"]
     assert {r["model"] for r in rows} == {"default"} and {r["measurement"] for r in rows} == {"45:0/D50/2°"}

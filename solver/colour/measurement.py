@@ -40,6 +40,8 @@ from ..table.integrals import azimuth_weights, band_weights, cosine_weights, hem
 from ..table.interpolation import lerp_weights
 from .cie import ColourError, check_illuminant, check_observer, check_range, spectra_to_lab, spectra_to_xyz
 
+#: the table columns a reflectance factor reads (the keywords of `Measurement.reflectance`)
+REFLECTANCE_COLUMNS = ("R_spec", "Tbar", "Rbar_below", "R")
 DEFAULT_ILLUMINANT = "D50"
 DEFAULT_OBSERVER = "2"
 #: instrument cones of 45:0 (degrees): illumination band half-width, view cone half-angle

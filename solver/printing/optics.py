@@ -42,7 +42,7 @@ def resample_wavelengths(table: InkTable, wavelengths_nm) -> InkTable:
         return a[i] * (1.0 - tt) + a[i + 1] * tt
 
     names = _LAMBDA_COLUMNS + tuple(table.sp_arrays)        # s/p split of unpolarised tables
-    return dataclasses.replace(table, wavelengths=wl, errors={},
+    return dataclasses.replace(table, wavelengths=wl, errors={}, jackknife=None,
                                **{name: lerp(getattr(table, name)) for name in names})
 
 

@@ -11,6 +11,7 @@ tier, so they count toward the table when the full tier is chosen.
 from __future__ import annotations
 
 import contextlib
+import copy
 import dataclasses
 import logging
 import math
@@ -20,7 +21,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .. import host
-from . import preflight, spectral, tier_choice
+from . import jackknife, preflight, spectral, tier_choice
 from .cache import TableCache
 from .executor import check_scheduler, default_workers, local_pool, run_units, usable_workers
 from .meta import table_meta
@@ -214,23 +215,28 @@ def _build_wave(request: TableRequest, opts: BuildOptions) -> InkTable:
 
 
 def _reduce(request, tier, reason, report, units, solved, nr, timer):
-    """(table, broken): the ensemble of the solved wavelengths, film-guided in between; broken:
-    the unsolved wavelengths whose guided values break energy (spectral.py)."""
+    """(table, broken): the ensemble of the solved wavelengths, film-guided in between, holding
+    the same of each leave-one-out ensemble (jackknife.py; N ≥ 2); broken: the unsolved
+    wavelengths whose guided values break energy (spectral.py)."""
     from .wave_ensemble import reduce_units
     from .wave_tier import realization_seed
 
     # the solved wavelengths' own request (grids only: units index the full request's wavelengths)
     coarse_request = request.with_grids(wavelengths_nm=tuple(request.grids.wavelengths_nm[i] for i in solved))
     extra = {"tier_probe": report, "realizations_used": nr}
-    if len(solved) < len(request.grids.wavelengths_nm):
+    refined = len(solved) < len(request.grids.wavelengths_nm)
+    if refined:
         extra["solved_wavelengths_nm"] = list(coarse_request.grids.wavelengths_nm)
     meta = table_meta(request, tier, reason, seeds=[realization_seed(request, r) for r in range(nr)],
                       timings_s=timer.stages, extra=extra)
-    table = reduce_units(coarse_request, [[units[r, li] for li in solved] for r in range(nr)], meta)
-    if len(solved) == len(request.grids.wavelengths_nm):
-        return table, []
-    table = spectral.refine(table, spectral.guide_film(request), tuple(solved))
-    return table, spectral.unsolved_breaking_energy(table, solved)
+    film = spectral.guide_film(request) if refined else None
+
+    def reduce(realizations: list) -> InkTable:
+        table = reduce_units(coarse_request, realizations, copy.deepcopy(meta))
+        return spectral.refine(table, film, tuple(solved)) if refined else table
+
+    table = jackknife.reduce_with_replicas(reduce, [[units[r, li] for li in solved] for r in range(nr)])
+    return table, spectral.unsolved_breaking_energy(table, solved) if refined else []
 
 
 def _worst_se(table: InkTable) -> float | None:

@@ -10,6 +10,10 @@ A `.npz` holding, per wavelength λ (nm) and incidence σ (rad):
                                   values of a multilinear interpolant
     R_spec, T_coh, Rbar, Tbar, Rbar_below   [nλ, nσ]
     <name>_err  (optional, same shape as <name>): standard error across realizations
+    <name>_jack (optional, float32 [N, *shape of <name>], N ≥ 2, for <name> in JACKKNIFE_COLUMNS):
+                <name> of each leave-one-out ensemble of a wave table's N realizations (k: all
+                but realization k, reduced and refined as the table is), from which a derived
+                quantity's jackknife standard error is computed (solver/table/jackknife.py)
     meta        JSON string (schema_version, polarisation, ink, particles, thickness_nm,
                 generator, settings, seeds, error estimates, tier, ...)
 
@@ -28,6 +32,8 @@ as it is); absent means "te" (the scalar wave tiers' tables).  An "unpolarised" 
     Tbar_s, Tbar_p  [nλ, nσ] real: s and p parts of Tbar, (Tbar_s + Tbar_p)/2 = Tbar
 
 Version 1 files (no polarisation key, no s/p arrays) still read, as polarisation "te".
+The `_jack` arrays are optional and additive: tables without them read as before (no
+jackknife), and a reader that does not know them ignores them, so they need no version bump.
 """
 
 from __future__ import annotations
@@ -52,6 +58,11 @@ GRIDS = ("wavelengths", "sigma", "theta", "dphi")
 SP_AMPLITUDES = ("r_s", "r_p")                         # optional, complex [nλ, nσ]
 SP_COLUMNS = ("Rbar_s", "Rbar_p", "Tbar_s", "Tbar_p")  # optional, real [nλ, nσ]
 SP_PAIRS = (("r_s", "r_p"), ("Rbar_s", "Rbar_p"), ("Tbar_s", "Tbar_p"))
+#: the columns a colour reads (solver/colour/measurement.py `reflectance`, and the transmitted
+#: colour's Tbar), stored per leave-one-out ensemble as `<name>_jack` (optional)
+JACKKNIFE_COLUMNS = ("R_spec", "T_coh", "Rbar", "Tbar", "Rbar_below", "R")
+JACKKNIFE_SUFFIX = "_jack"
+JACKKNIFE_DTYPE = np.float32          # the spread between replicas is ≥ 1e-4; float32 keeps 1e-7
 _ANGLE_TOL = 1e-9
 _ENERGY_TOL = 1e-6          # round-off tolerance on physical bounds
 _DEFAULT_SUM_TOL = 2e-3     # Rbar vs R_spec + ∫R, when meta gives no error estimate
@@ -81,6 +92,8 @@ class InkTable:
     Rbar_p: np.ndarray | None = None
     Tbar_s: np.ndarray | None = None
     Tbar_p: np.ndarray | None = None
+    #: {column: [N, *column shape]}: the column in each leave-one-out ensemble (see above); None: none
+    jackknife: dict | None = None
 
     @property
     def polarisation(self) -> str:
@@ -179,6 +192,7 @@ def validate(table: InkTable, where: str = "table") -> InkTable:
     for name, arr in table.errors.items():
         _check(name in COLUMNS + ("R",), where, f"unknown error column '{name}_err'")
         _check(np.shape(arr) == table.column(name).shape, where, f"'{name}_err' shape mismatch")
+    _validate_jackknife(table, where)
     _validate_polarisation(table, where, version)      # the s/p arrays' kinds before their energy sums
     for total, coherent in (("Rbar", "R_spec"), ("Tbar", "T_coh")):
         excess = float(np.max(table.column(coherent) - table.column(total)))
@@ -205,6 +219,26 @@ def validate(table: InkTable, where: str = "table") -> InkTable:
     _check(float(mismatch.max()) <= tol, where,
            f"'Rbar' differs from R_spec + ∫R by {mismatch.max():.3g} (> {tol:.3g})")
     return table
+
+
+def _validate_jackknife(table: InkTable, where: str) -> None:
+    """The optional leave-one-out columns: known names, one count N ≥ 2 of replicas, each shaped
+    like its column, finite."""
+    jack = table.jackknife
+    if jack is None:
+        return
+    _check(isinstance(jack, dict) and bool(jack), where, "'jackknife' must be a non-empty dict of arrays or None")
+    counts = set()
+    for name, arr in jack.items():
+        _check(name in JACKKNIFE_COLUMNS, where, f"unknown jackknife column '{name}{JACKKNIFE_SUFFIX}' "
+               f"(known: {', '.join(JACKKNIFE_COLUMNS)})")
+        shape = table.column(name).shape
+        _check(np.ndim(arr) == len(shape) + 1 and np.shape(arr)[1:] == shape, where,
+               f"'{name}{JACKKNIFE_SUFFIX}' has shape {np.shape(arr)}, expected (replicas, *{shape})")
+        _check(bool(np.all(np.isfinite(arr))), where, f"'{name}{JACKKNIFE_SUFFIX}' has non-finite values")
+        counts.add(np.shape(arr)[0])
+    _check(len(counts) == 1 and min(counts) >= 2, where,
+           f"the jackknife arrays must share one replica count ≥ 2, got {sorted(counts)}")
 
 
 def _validate_polarisation(table: InkTable, where: str, version: int) -> None:
@@ -257,6 +291,8 @@ def write_table(path, table: InkTable) -> Path:
         arrays[f"{name}_err"] = np.asarray(arr, dtype=np.float64)
     for name, arr in table.sp_arrays.items():
         arrays[name] = np.asarray(arr, dtype=np.complex128 if name in SP_AMPLITUDES else np.float64)
+    for name, arr in (table.jackknife or {}).items():
+        arrays[f"{name}{JACKKNIFE_SUFFIX}"] = np.asarray(arr, dtype=JACKKNIFE_DTYPE)
     arrays["meta"] = np.array(json.dumps(table.meta, sort_keys=True))
     atomic_savez(path, arrays, compressed=True)
     return path
@@ -293,7 +329,9 @@ def read_table(path) -> InkTable:
     errors = {k[:-4]: _numbers(data[k], k, where, complex_ok=False) for k in data if k.endswith("_err")}
     arrays = {k: _numbers(data[k], k, where, complex_ok=False) for k in real}
     arrays.update({k: _numbers(data[k], k, where, complex_ok=True) for k in SP_AMPLITUDES if k in data})
-    return validate(InkTable(**arrays, meta=meta, errors=errors), where)
+    jack = {k[:-len(JACKKNIFE_SUFFIX)]: _numbers(data[k], k, where, complex_ok=False).astype(JACKKNIFE_DTYPE)
+            for k in data if k.endswith(JACKKNIFE_SUFFIX)}
+    return validate(InkTable(**arrays, meta=meta, errors=errors, jackknife=jack or None), where)
 
 
 def _numbers(arr: np.ndarray, name: str, where: str, complex_ok: bool) -> np.ndarray:

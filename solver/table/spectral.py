@@ -26,7 +26,8 @@ What the film lacks is interpolated itself: the diffuse BRDF R and the s and p d
 Rbar_s − |r_s|², Rbar_p − |r_p|².  The rest is derived so that the table's identities hold
 exactly at every wavelength: R_spec = (|r_s|² + |r_p|²)/2, Rbar = R_spec + ∫R,
 Rbar_s/p = |r_s/p|² + D_s/p with (D_s + D_p)/2 = ∫R, Tbar = (Tbar_s + Tbar_p)/2.  Standard
-errors are interpolated linearly (no film).  At the solved
+errors are interpolated linearly (no film).  A table's leave-one-out ensembles are refined by
+this same function, each from its own coarse table (builder._reduce).  At the solved
 wavelengths the table is the wave ensemble's, bit for bit.
 """
 
@@ -63,6 +64,9 @@ def refine(coarse: InkTable, film: InkTable, solved: tuple[int, ...], meta: dict
     """The table on the film's wavelengths from the wave table `coarse` on the solved subset
     `solved` (indices into the film's wavelengths), guided by the exact film `film` (same σ
     grid and polarisation).  meta: the refined table's meta (default: coarse's)."""
+    if coarse.jackknife is not None:
+        raise ValueError("refine the leave-one-out tables themselves, before attaching them "
+                         "(jackknife.reduce_with_replicas): a table's jackknife columns cannot be refined alone")
     wl = np.asarray(film.wavelengths, float)
     idx = np.asarray(solved)
     sw = wl[idx]

@@ -19,6 +19,8 @@ since they share a cell); R_spec's by jackknife.  Where each realization solved 
 (A = 1, wave_tier.alternates) the TE and TM realizations are independent groups: the unpolarised
 mean's variance is the groups' Σ_p SE_p²/4, with N − 2 degrees of freedom (meta errors.se_dof).
 One realization (per group): unknown, none stored.
+The builder (`builder._reduce`) also reduces each leave-one-out ensemble with `reduce_units`
+(`jackknife.reduce_with_replicas`) and stores their colour columns in the table.
 """
 
 from __future__ import annotations

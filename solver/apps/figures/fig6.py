@@ -40,7 +40,8 @@ def azimuth_averaged(table: InkTable, dphi_rad) -> InkTable:
         return table
     i, t = lerp_weights(table.dphi, np.asarray(dphi_rad, dtype=float))
     mean = np.mean(table.R[..., i] * (1 - t) + table.R[..., i + 1] * t, axis=-1)
-    return dataclasses.replace(table, dphi=np.array([0.0, np.pi]), R=np.stack([mean, mean], axis=-1))
+    return dataclasses.replace(table, dphi=np.array([0.0, np.pi]), R=np.stack([mean, mean], axis=-1),
+                               jackknife=None)       # a picture: its replicas are not needed
 
 
 def strip_reflectance(table: InkTable, paper, view_rad, mirror: bool = True) -> np.ndarray:

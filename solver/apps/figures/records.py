@@ -1,11 +1,13 @@
 """One record per cell — what the CSV holds and the findings report reads.
 
 CSV columns (docs/figures.md): figure, model, ink, column, grains, particles, tilt_deg, accuracy,
-tier, status, measurement, L, a, b, L_se, a_se, b_se, se_source, se_dof, cache_key, computed,
-seconds, reason. The colour is CIELAB of the ink on paper r = 0.9 as `measurement` names it
-(geometry/illuminant/observer, `solver.colour.measurement`); *_se its propagated standard error
-(empty: unknown) with se_dof degrees of freedom (realizations − 1; 'inf' for an exact film or a
-model bound); T_L, T_a, T_b (and *_se) the colour the layer transmits at normal incidence (Tbar at
+tier, status, measurement, L, a, b, L_se, a_se, b_se, se_source, se_method, se_dof, cache_key,
+computed, seconds, reason. The colour is CIELAB of the ink on paper r = 0.9 as `measurement` names it
+(geometry/illuminant/observer, `solver.colour.measurement`); *_se its standard error (empty:
+unknown), computed as se_method says ('jackknife' over the realizations, or 'propagated' from the
+nodes' standard errors; `solver.colour.table_colour`; empty in CSVs written before it was
+recorded) with se_dof degrees of freedom (realizations − 1; 'inf' for an exact film or a model
+bound); T_L, T_a, T_b (and *_se) the colour the layer transmits at normal incidence (Tbar at
 σ = 0, the paper's Fig. 9 quantity) under the same illuminant and observer.
 """
 
@@ -23,8 +25,9 @@ from solver.paper import PAPER_ALBEDO
 from .cells import CellResult, FigureSettings
 
 FIELDS = ("figure", "model", "ink", "column", "grains", "particles", "tilt_deg", "accuracy", "tier", "status",
-          "measurement", "L", "a", "b", "L_se", "a_se", "b_se", "se_source", "se_dof", "T_L", "T_a", "T_b",
+          "measurement", "L", "a", "b", "L_se", "a_se", "b_se", "se_source", "se_method", "se_dof", "T_L", "T_a", "T_b",
           "T_L_se", "T_a_se", "T_b_se", "cache_key", "computed", "seconds", "reason")
+OPTIONAL_FIELDS = ("se_method",)     # absent from the CSVs of earlier versions: read as ""
 
 
 @dataclass(frozen=True)
@@ -50,6 +53,7 @@ class CellRecord:
     computed: bool            # built by this run (False: from the cache)
     seconds: float
     reason: str = ""
+    se_method: str = ""       # how se was computed ('jackknife', 'propagated', …; "" when not recorded)
 
     @property
     def ok(self) -> bool:
@@ -68,12 +72,12 @@ def record_of(figure: str, result: CellResult, settings: FigureSettings,
                   seconds=result.seconds)
     if not result.ok:
         nan = np.full(3, np.nan)
-        return CellRecord(**common, tier="", status="failed", lab=nan, se=nan, se_source="", se_dof=0.0,
+        return CellRecord(**common, tier="", status="failed", lab=nan, se=nan, se_source="", se_method="", se_dof=0.0,
                           lab_t=nan, se_t=nan, cache_key=key, reason=result.error or "")
     colour = colour or table_colour(result.table, PAPER_ALBEDO, measurement)
     through = transmitted_colour(result.table, measurement)
     return CellRecord(**common, tier=str(result.table.meta.get("tier", "")), status="ok", lab=colour.lab,
-                      se=colour.se, se_source=colour.source, se_dof=colour.dof, lab_t=through.lab, se_t=through.se,
+                      se=colour.se, se_source=colour.source, se_method=colour.method, se_dof=colour.dof, lab_t=through.lab, se_t=through.se,
                       cache_key=str(result.table.meta.get("cache_key", key)))
 
 
@@ -103,7 +107,7 @@ def write_csv(records: list[CellRecord], path) -> Path:
         for r in records:
             w.writerow([r.figure, r.model, r.ink, r.column, r.grains, r.particles, _num(r.tilt_deg, 1), r.accuracy,
                         r.tier, r.status, r.measurement, *(_num(v, 3) for v in r.lab), *(_num(v, 3) for v in r.se),
-                        r.se_source, _dof(r.se_dof), *(_num(v, 3) for v in r.lab_t), *(_num(v, 3) for v in r.se_t),
+                        r.se_source, r.se_method, _dof(r.se_dof), *(_num(v, 3) for v in r.lab_t), *(_num(v, 3) for v in r.se_t),
                         r.cache_key, "yes" if r.computed else "no",
                         f"{r.seconds:.1f}", r.reason])
     return path
@@ -120,7 +124,7 @@ def read_csv(path) -> list[CellRecord]:
     out = []
     with open(path, newline="", encoding="utf-8") as fh:
         reader = csv.DictReader(fh)
-        missing = [k for k in FIELDS if k not in (reader.fieldnames or ())]
+        missing = [k for k in FIELDS if k not in (reader.fieldnames or ()) and k not in OPTIONAL_FIELDS]
         if missing:
             raise ValueError(f"{path}: not a figure CSV of this version (no column {', '.join(missing)}); "
                              "draw the figure again with `ink-tables paper`")
@@ -132,6 +136,7 @@ def read_csv(path) -> list[CellRecord]:
                 measurement=row["measurement"],
                 lab=np.array([f(row[k]) for k in ("L", "a", "b")]),
                 se=np.array([f(row[k]) for k in ("L_se", "a_se", "b_se")]), se_source=row["se_source"],
+                se_method=row.get("se_method") or "",
                 se_dof=float(row["se_dof"] or 0.0),
                 lab_t=np.array([f(row[k]) for k in ("T_L", "T_a", "T_b")]),
                 se_t=np.array([f(row[k]) for k in ("T_L_se", "T_a_se", "T_b_se")]),

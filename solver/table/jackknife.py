@@ -1,0 +1,70 @@
+"""The jackknife over a wave table's realizations: leave-one-out ensembles and the standard error
+of anything computed from them (docs/figures.md, "The colour's standard error").
+
+A wave table is the mean of N random realizations.  Its leave-one-out ensemble k is the same
+reduction (and refinement) of the realizations r ≠ k; the table stores, per replica k, the
+columns a colour reads (schema.JACKKNIFE_COLUMNS, as `<name>_jack`).  For any quantity c
+computed from the table — however nonlinearly, e.g. CIELAB — with c_k the same computation on
+replica k,
+
+    SE²(c) = (N − 1)/N · Σ_k (c_k − c̄)²,   c̄ = mean_k c_k,
+
+with N − 1 degrees of freedom.  For a mean (c linear in the realizations) this is exactly the
+standard error of the mean, s/√N; the correlations between the nodes of the table (the same
+cells at every λ and σ) are in the replicas, so nothing about them has to be assumed.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Callable, Sequence, TypeVar
+
+import numpy as np
+
+from .schema import JACKKNIFE_COLUMNS, JACKKNIFE_DTYPE, InkTable
+
+T = TypeVar("T")
+
+
+def leave_one_out(items: Sequence[T]) -> list[list[T]]:
+    """[all but item k for k = 0 … N−1] (N ≥ 2)."""
+    items = list(items)
+    if len(items) < 2:
+        raise ValueError(f"a jackknife needs at least 2 realizations, got {len(items)}")
+    return [items[:k] + items[k + 1:] for k in range(len(items))]
+
+
+def attach(table: InkTable, replicas: Sequence[InkTable]) -> InkTable:
+    """`table` holding the JACKKNIFE_COLUMNS of its leave-one-out tables `replicas` (on its grids)."""
+    if len(replicas) < 2:
+        raise ValueError(f"a jackknife needs at least 2 leave-one-out tables, got {len(replicas)}")
+    return dataclasses.replace(table, jackknife={
+        name: np.stack([r.column(name) for r in replicas]).astype(JACKKNIFE_DTYPE) for name in JACKKNIFE_COLUMNS})
+
+
+def reduce_with_replicas(reduce: Callable[[list], InkTable], realizations: Sequence) -> InkTable:
+    """reduce(realizations), holding the columns of reduce(each leave-one-out subset) when there
+    are ≥ 2 realizations: one function makes the table and its replicas alike (the ensemble
+    average and any refinement after it)."""
+    table = reduce(list(realizations))
+    if len(realizations) < 2:
+        return table
+    return attach(table, [reduce(rest) for rest in leave_one_out(realizations)])
+
+
+def replicas(table: InkTable) -> list[dict] | None:
+    """Per leave-one-out ensemble, its columns as float64 ({name: array}); None without jackknife."""
+    if table.jackknife is None:
+        return None
+    count = next(iter(table.jackknife.values())).shape[0]
+    return [{name: np.asarray(a[k], dtype=np.float64) for name, a in table.jackknife.items()} for k in range(count)]
+
+
+def standard_error(values) -> np.ndarray:
+    """The jackknife standard error from the leave-one-out values (axis 0: the N ≥ 2 replicas):
+    sqrt((N − 1)/N · Σ_k (c_k − c̄)²), per remaining component."""
+    values = np.asarray(values, dtype=np.float64)
+    n = values.shape[0]
+    if n < 2:
+        raise ValueError(f"a jackknife needs at least 2 leave-one-out values, got {n}")
+    return np.sqrt((n - 1) / n * np.sum((values - values.mean(axis=0)) ** 2, axis=0))
