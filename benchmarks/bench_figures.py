@@ -20,7 +20,7 @@
 4. presets: each accuracy preset's colour error (ΔE2000) against `fine` and its build time on
    a few cells (tables kept in out/bench/presets_cache); presets-quick: the two cells whose
    fine tables take about a minute; presets-span: six cells across the columns (~45 min
-   the first time); candidates: cheaper default settings (stride 3, 3 realizations) on the
+   the first time); candidates: the default beside the former default and cheaper settings on the
    six cells against their fine tables (after presets-span); none of them in the default run;
 5. fig7: the whole Fig. 7 at `preview` from an empty cache, timed (~25 min);
 6. steps: the map's colour steps between columns in the committed Fig. 7 CSV (the scale of 4);
@@ -80,7 +80,7 @@ def plan_costs() -> None:
             t2, t16 = (_figure_estimate(plans, w) for w in (2, 16))
             line += f"{duration(t2) + ' / ' + duration(t16):>28s}  "
         print(line)
-    print("   the default Fig. 7 with cheaper settings (`candidates` measures their colour against fine):")
+    print("   the default Fig. 7 beside other settings (`candidates` measures their colour against fine):")
     for name, overrides in DEFAULT_CANDIDATES.items():
         seconds = _figure_estimate(plan_cells(*FIGURES["fig7"], FigureSettings("default", tuple(overrides.items()))), 2)
         print(f"     {name:28s} {duration(seconds)}")
@@ -248,8 +248,8 @@ QUICK_PRESET_CELLS = (PRESET_CELLS[0], PRESET_CELLS[2])
 #: `presets-span`: six cells across Fig. 7's columns (grain sizes 30–300 nm, balls,
 #: agglutinated balls, vertical cylinders) and its three concentrations — the issue's "≥ 6
 #: cells spanning the columns"; the fine tables take ~45 min on 2 quiet cores
-SPAN_PRESET_CELLS = (("R50", "sphere:30"), ("R30", "sphere:100"), ("R30", "sphere:100:agglutinated"),
-                     ("R15", "sphere:200"), ("R15", "sphere:300"), ("R50", "cylinder:100:vertical"))
+SPAN_PRESET_CELLS = (("R50", "sphere:30"), ("R30", "sphere:100"), ("R15", "sphere:300"), ("R50", "cylinder:100:vertical"),
+                     ("R15", "sphere:200"), ("R30", "sphere:100:agglutinated"))      # cheapest fine tables first
 
 
 def preset_errors(cells=PRESET_CELLS) -> None:
@@ -283,10 +283,12 @@ def preset_errors(cells=PRESET_CELLS) -> None:
           + "  ".join(f"{np.median(errors[a]):>14.2f} / {max(errors[a]):5.2f}" for a in ACCURACY))
 
 
-#: `candidates`: cheaper settings of the default preset, tried on SPAN_PRESET_CELLS against the
-#: fine tables of `presets-span` (run that first: it builds them)
-DEFAULT_CANDIDATES = {"default": {}, "stride 3": {"wavelength_stride": 3}, "3 realizations": {"realizations": 3},
-                      "stride 3, 3 realizations": {"wavelength_stride": 3, "realizations": 3}}
+#: `candidates`: the default preset beside the former one and cheaper settings, tried on
+#: SPAN_PRESET_CELLS against the fine tables of `presets-span` (run that first: it builds them)
+DEFAULT_CANDIDATES = {"default": {}, "former default (4 × 2, tol 1e-3)": {"realizations": 4, "azimuths": 2,
+                                                                          "solver_tol": 1e-3},
+                      "5 realizations": {"realizations": 5}, "tol 5e-3": {"solver_tol": 5e-3},
+                      "stride 3": {"wavelength_stride": 3}}
 
 
 def candidate_errors(cells=SPAN_PRESET_CELLS, candidates=DEFAULT_CANDIDATES) -> None:
@@ -373,7 +375,12 @@ def preview_vs_default(preview: Path = Path("docs/data/fig7_preview.csv"),
 SAMPLE_ROWS, QUICK_COLUMNS = 7, ("molecular", "sphere:100", "sphere:300", "sphere:300:rough")
 
 
-def fig7_sample(quick: bool = False, accuracy: str = "default") -> None:
+#: `sample-row-former`: the former default (4 realizations × 2 azimuths, tol 1e-3) on the first
+#: sampled row, beside the same row of `sample` (same code, one session)
+FORMER_DEFAULT = (("realizations", 4), ("azimuths", 2), ("solver_tol", 1e-3))
+
+
+def fig7_sample(quick: bool = False, accuracy: str = "default", overrides=(), one_row: bool = False) -> None:
     """The whole Fig. 7's build time from a stratified sample of its cells: each sampled cell
     built from an empty cache (2 workers, one pool), its time beside its preflight estimate;
     the figure = Σ over all cells of their estimates × the measured/estimate ratio of their
@@ -383,13 +390,16 @@ def fig7_sample(quick: bool = False, accuracy: str = "default") -> None:
     first row's four representative cells only."""
     from solver.table.builder import pooled
 
-    settings = FigureSettings(accuracy)
+    from .bench_fresh import YARDSTICK, yardstick
+
+    settings = FigureSettings(accuracy, tuple(overrides))
     columns = [c for c in FIG7_COLUMNS if not quick or c.particles in QUICK_COLUMNS]
-    rows = FIG7_ROWS[:1] if quick else FIG7_ROWS[::SAMPLE_ROWS]
+    rows = FIG7_ROWS[:1] if quick or one_row else FIG7_ROWS[::SAMPLE_ROWS]
     every = [p for p in plan_cells(FIG7_ROWS, FIG7_COLUMNS, settings) if p.request is not None]
     plans = [p for p in plan_cells(rows, columns, settings) if p.request is not None]
-    print(f"\n8. Fig. 7 at `{accuracy}` from a stratified sample: {len(plans)} cells ({len(rows)} row(s) × "
-          f"{len(columns)} columns) of {len(every)}, empty cache, 2 workers")
+    print(f"\n8. Fig. 7 at `{accuracy}`{' with ' + str(dict(overrides)) if overrides else ''} from a stratified "
+          f"sample: {len(plans)} cells ({len(rows)} row(s) × {len(columns)} columns) of {len(every)}, empty cache, "
+          f"2 workers; yardstick {yardstick(YARDSTICK):.3f} s")
     measured = {}
     with tempfile.TemporaryDirectory(prefix="fig7_sample_") as tmp:
         opts = BuildOptions(workers=2, progress=False, cache=TableCache(Path(tmp)))
@@ -427,6 +437,7 @@ def fig7_sample(quick: bool = False, accuracy: str = "default") -> None:
         pred = sum(e * others[c] for (r, c), (m, e) in row_cells)
         real = sum(m for _, (m, e) in row_cells)
         print(f"   row {held}: measured {real:.0f} s, predicted from the other rows {pred:.0f} s ({pred / real - 1:+.0%})")
+    print(f"   yardstick after: {yardstick(YARDSTICK):.3f} s")
 
 
 def main(argv=None) -> int:
@@ -439,6 +450,7 @@ def main(argv=None) -> int:
                 "presets": preset_errors, "fig7": fig7_preview, "steps": map_steps,
                 "compare": preview_vs_default, "sample": fig7_sample,
                 "sample-quick": lambda: fig7_sample(quick=True),
+                "sample-row-former": lambda: fig7_sample(overrides=FORMER_DEFAULT, one_row=True),
                 "presets-quick": lambda: preset_errors(QUICK_PRESET_CELLS),
                 "presets-span": lambda: preset_errors(SPAN_PRESET_CELLS),
                 "candidates": candidate_errors}

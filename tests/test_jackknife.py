@@ -28,6 +28,24 @@ def test_jackknife_of_a_mean_is_the_standard_error_of_the_mean():
         jackknife.leave_one_out([x[0]])
 
 
+def test_stratified_jackknife_of_a_mean_of_group_means_is_its_standard_error():
+    """TE and TM on separate cells (6 realizations alternating): the quantity is the mean of the
+    two groups' means, whose variance is s_TE²/(4 n_TE) + s_TM²/(4 n_TM); the stratified
+    jackknife gives exactly that, with N − 2 degrees of freedom (the pooled form would not)."""
+    rng = np.random.default_rng(5)
+    x = rng.normal(size=(6, 4)) * np.array([1.0, 2.0, 0.5, 3.0])
+    groups = [0, 1, 0, 1, 0, 1]
+    g = np.asarray(groups)
+    theta = lambda rows, gs: 0.5 * (rows[gs == 0].mean(axis=0) + rows[gs == 1].mean(axis=0))
+    loo = np.array([theta(np.delete(x, k, axis=0), np.delete(g, k)) for k in range(6)])
+    exact = np.sqrt(sum(x[g == p].var(axis=0, ddof=1) / (4 * 3) for p in (0, 1)))
+    np.testing.assert_allclose(jackknife.standard_error(loo, groups), exact, rtol=1e-12)
+    assert not np.allclose(jackknife.standard_error(loo), exact, rtol=0.05)
+    assert jackknife.degrees_of_freedom(6, groups) == 4 and jackknife.degrees_of_freedom(6) == 5
+    with pytest.raises(ValueError, match="each group"):
+        jackknife.standard_error(loo[:3], [0, 1, 0])
+
+
 def test_the_colour_reads_only_jackknife_columns():
     assert set(M.REFLECTANCE_COLUMNS) <= set(JACKKNIFE_COLUMNS)
 

@@ -101,6 +101,11 @@ def test_one_azimuth_alternates_polarisation_over_realizations(alternating):
         np.testing.assert_allclose(table.Rbar_s[li, solved], te.mean(0), atol=1e-12)
     assert table.meta["errors"]["se_dof"] == 2
     assert table.meta["solver_stats"]["solves"] == 4 * 2 * solved.size     # one solve per cell and σ
+    # the jackknife's strata are the TE and TM cells: its Rbar replicas give the groups' SE too
+    assert table.meta["jackknife_groups"] == [0, 1, 0, 1]
+    from solver.table import jackknife
+    loo = [r["Rbar"] for r in jackknife.replicas(table)]
+    np.testing.assert_allclose(jackknife.standard_error(loo, [0, 1, 0, 1]), table.errors["Rbar"], atol=1e-6)
 
 
 @pytest.mark.parametrize("which", ["table_and_request", "alternating"])

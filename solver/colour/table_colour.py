@@ -133,8 +133,10 @@ def _jackknife_colour(table, measurement: Measurement, spectrum) -> TableColour 
     wl = table.wavelengths
     own = {name: table.column(name) for name in replicas[0]}
     labs = [measurement.lab_of_spectra(wl, spectrum(r)) for r in replicas]
-    return TableColour(measurement.lab_of_spectra(wl, spectrum(own)), jackknife.standard_error(labs),
-                       "realizations", float(len(replicas) - 1), measurement, "jackknife")
+    groups = table.meta.get("jackknife_groups")          # TE and TM cells: independent groups
+    return TableColour(measurement.lab_of_spectra(wl, spectrum(own)), jackknife.standard_error(labs, groups),
+                       "realizations", float(jackknife.degrees_of_freedom(len(replicas), groups)),
+                       measurement, "jackknife")
 
 
 def table_colour(table, paper, measurement: Measurement = DEFAULT) -> TableColour:

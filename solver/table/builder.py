@@ -219,7 +219,7 @@ def _reduce(request, tier, reason, report, units, solved, nr, timer):
     the same of each leave-one-out ensemble (jackknife.py; N ≥ 2); broken: the unsolved
     wavelengths whose guided values break energy (spectral.py)."""
     from .wave_ensemble import reduce_units
-    from .wave_tier import realization_seed
+    from .wave_tier import realization_seed, samples
 
     # the solved wavelengths' own request (grids only: units index the full request's wavelengths)
     coarse_request = request.with_grids(wavelengths_nm=tuple(request.grids.wavelengths_nm[i] for i in solved))
@@ -227,6 +227,9 @@ def _reduce(request, tier, reason, report, units, solved, nr, timer):
     refined = len(solved) < len(request.grids.wavelengths_nm)
     if refined:
         extra["solved_wavelengths_nm"] = list(coarse_request.grids.wavelengths_nm)
+    groups = [sorted({p for _, p in samples(request, r)}) for r in range(nr)]
+    if len({tuple(g) for g in groups}) > 1:             # TE and TM cells: the jackknife's strata
+        extra["jackknife_groups"] = [int(g[0]) for g in groups]
     meta = table_meta(request, tier, reason, seeds=[realization_seed(request, r) for r in range(nr)],
                       timings_s=timer.stages, extra=extra)
     film = spectral.guide_film(request) if refined else None

@@ -60,11 +60,31 @@ def replicas(table: InkTable) -> list[dict] | None:
     return [{name: np.asarray(a[k], dtype=np.float64) for name, a in table.jackknife.items()} for k in range(count)]
 
 
-def standard_error(values) -> np.ndarray:
+def standard_error(values, groups: Sequence[int] | None = None) -> np.ndarray:
     """The jackknife standard error from the leave-one-out values (axis 0: the N ≥ 2 replicas):
-    sqrt((N − 1)/N · Σ_k (c_k − c̄)²), per remaining component."""
+    sqrt((N − 1)/N · Σ_k (c_k − c̄)²), per remaining component.
+
+    groups: the stratum of each replica's left-out realization where the realizations form
+    independent groups (TE and TM cells alternating: wave_tier.alternates; the table's meta
+    `jackknife_groups`): then the stratified jackknife Σ_g (n_g − 1)/n_g Σ_{k∈g} (c_k − c̄_g)²,
+    exact for a mean of group means (the pooled form overstates it by up to (N−1)/N · n_g/(n_g−1)),
+    with N − G degrees of freedom (`degrees_of_freedom`)."""
     values = np.asarray(values, dtype=np.float64)
     n = values.shape[0]
     if n < 2:
         raise ValueError(f"a jackknife needs at least 2 leave-one-out values, got {n}")
-    return np.sqrt((n - 1) / n * np.sum((values - values.mean(axis=0)) ** 2, axis=0))
+    if groups is None or len(set(groups)) < 2:
+        return np.sqrt((n - 1) / n * np.sum((values - values.mean(axis=0)) ** 2, axis=0))
+    groups = np.asarray(groups)
+    if groups.shape != (n,) or min(np.count_nonzero(groups == g) for g in set(groups.tolist())) < 2:
+        raise ValueError(f"jackknife groups {groups.tolist()}: one per replica, each group ≥ 2")
+    var = 0.0
+    for g in set(groups.tolist()):
+        v = values[groups == g]
+        var = var + (v.shape[0] - 1) / v.shape[0] * np.sum((v - v.mean(axis=0)) ** 2, axis=0)
+    return np.sqrt(var)
+
+
+def degrees_of_freedom(count: int, groups: Sequence[int] | None = None) -> int:
+    """N − 1, or N − G for G independent groups (standard_error)."""
+    return count - (1 if groups is None else max(1, len(set(groups))))
