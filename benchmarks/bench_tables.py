@@ -7,6 +7,7 @@
     python -m benchmarks.bench_tables --stride-curve     # film-guided wavelength stride (~3 min)
     python -m benchmarks.bench_tables --common-grains    # rows sharing grains: paired realizations (~1 min)
     python -m benchmarks.bench_tables --samples          # sample design: cells × azimuths (~5 min)
+    python -m benchmarks.bench_tables --default-knobs    # the default's grid and solver tolerance (~25 min)
 
 1. The default table (issue target: ≤ 60 s wall on this 2-core machine with max SE of Rbar and
    Tbar ≤ 0.011), old and new code side by side: Y7.5+B7.5, 300-nm spheres, seconds per stage
@@ -28,6 +29,8 @@
    azimuths of one cell, the TE–TM covariance of a cell) and the standard error of each design
    (realizations × azimuths; one azimuth alternates TE and TM over the cells) relative to the
    former default 4 × 2 (docs/tables.md, "Samples: one cell per solve").
+6. The default's grid and solver tolerance (--default-knobs): ΔE2000 of each value against the
+   finest on cells across Fig. 7's columns (same seeds), applications and retried solves.
 """
 
 from __future__ import annotations
@@ -410,6 +413,42 @@ def sample_design_study(realizations: int = 6, azimuths: int = 4, lambda_indices
                   flush=True)
 
 
+#: `--default-knobs`: the default preset's grid and solver tolerance on cells across Fig. 7's
+#: columns, each variant against a reference variant of the same cells (same seeds: the
+#: difference is the knob's alone), tier full
+KNOB_CELLS = {"grid": (("R50", "sphere:30"), ("R30", "sphere:100"), ("R30", "sphere:100:agglutinated"),
+                       ("R15", "sphere:200"), ("R15", "sphere:300"), ("R50", "cylinder:100:vertical"),
+                       ("R15", "sphere:450"), ("B30", "cylinder:200:inplane"), ("Y30", "cylinder:300:isotropic")),
+              "solver_tol": (("R15", "sphere:300"), ("R15", "sphere:450"), ("B30", "cylinder:200:inplane"),
+                             ("Y30", "cylinder:300:isotropic"), ("R15", "sphere:300:rough"))}
+KNOB_VALUES = {"grid": ((64, 64, 32), (48, 48, 24), (40, 40, 20)), "solver_tol": (1e-3, 3e-3, 5e-3, 1e-2)}
+
+
+def default_knobs(workers: int) -> None:
+    """ΔE2000 (45:0/D50 on paper) of each value of the default's grid and solver tolerance against
+    the first value, with the mean applications per solve and the solves that needed the retry
+    ladder (docs/tables.md, "Samples: one cell per solve")."""
+    from solver.colour.cie import delta_e2000
+    from solver.table.builder import build_table, pooled
+    from solver.table.request import table_request
+
+    for knob, values in KNOB_VALUES.items():
+        print(f"default preset, {knob} (ΔE2000 against {values[0]}; applications per solve; solves retried)")
+        with tempfile.TemporaryDirectory() as tmp:
+            opts = BuildOptions(workers=workers, progress=False, cache=TableCache(Path(tmp)))
+            with pooled(opts) as running:
+                for ink, particles in KNOB_CELLS[knob]:
+                    rows = []
+                    for v in values:
+                        t = build_table(table_request(ink, particles, tier="full", **{knob: v}), running)
+                        st = t.meta["solver_stats"]
+                        rows.append((v, colour(t), st["applications_mean"], st["solves_retried"]))
+                    ref = rows[0][1]
+                    print(f"  {ink + ' ' + particles:30s} " + "  ".join(
+                        f"{v}: ΔE {float(delta_e2000(lab, ref)):.3f}, {apps:.1f} apps, {retried} retried"
+                        for v, lab, apps, retried in rows), flush=True)
+
+
 def plot(curves: dict) -> None:
     import matplotlib
     matplotlib.use("Agg")
@@ -452,11 +491,16 @@ def main(argv=None) -> int:
     p.add_argument("--realizations", type=int, default=2, help="realizations of the stride curve")
     p.add_argument("--common-grains", action="store_true",
                    help="only the common-random-numbers study (rows sharing grains; ~1 min)")
+    p.add_argument("--default-knobs", action="store_true",
+                   help="only the default's grid and solver-tolerance screen (ΔE2000 on Fig. 7 cells; ~25 min)")
     p.add_argument("--samples", action="store_true",
                    help="only the sample-design study (cells × azimuths, variance components; ~5 min)")
     args = p.parse_args(argv if argv is not None else [])
     if args.samples:
         sample_design_study()
+        return 0
+    if args.default_knobs:
+        default_knobs(args.workers)
         return 0
     if args.common_grains:
         common_grains_study()

@@ -72,20 +72,23 @@ def colour_lines(table, paper: float, measurement: Measurement) -> list[str]:
         lines.append(f" {mark}{name:>8}: L*a*b* = ({lab[0]:5.1f}, {lab[1]:6.1f}, {lab[2]:6.1f}), hue {hue:3.0f}°, "
                      f"chroma {chroma:5.1f}, sRGB {tuple(int(v) for v in lab_to_srgb8(lab, m.illuminant, m.observer))}"
                      f"  — {geometry.description}")
-    lines.append(f"  standard error of the * colour: {se_text(table_colour(table, paper, measurement))}")
+    count = len(table.jackknife[next(iter(table.jackknife))]) if table.jackknife else None
+    lines.append(f"  standard error of the * colour: {se_text(table_colour(table, paper, measurement), count)}")
     return lines
 
 
-def se_text(colour) -> str:
-    """'L* 0.16, a* 0.34, b* 0.32 (jackknife over 4 realizations: 3 degrees of freedom)', or
-    how it is known otherwise (solver/colour/table_colour.py `method`)."""
+def se_text(colour, realizations: int | None = None) -> str:
+    """'L* 0.16, a* 0.34, b* 0.32 (jackknife over 6 realizations: 4 degrees of freedom)', or
+    how it is known otherwise (solver/colour/table_colour.py `method`); realizations: the
+    jackknife's replica count (its degrees of freedom are fewer by the TE/TM groups)."""
     if colour.method == "unknown":
         return "unknown (one realization)"
     if colour.method == "exact":
         return "0 (exact film)"
     values = ", ".join(f"{k} {v:.2g}" for k, v in zip(("L*", "a*", "b*"), colour.se))
     if colour.method == "jackknife":
-        return f"{values} (jackknife over {colour.dof + 1:g} realizations: {colour.dof:g} degrees of freedom)"
+        count = colour.dof + 1 if realizations is None else realizations
+        return f"{values} (jackknife over {count:g} realizations: {colour.dof:g} degrees of freedom)"
     return f"{values} (propagated bound from the nodes' standard errors, {colour.source})"
 
 
