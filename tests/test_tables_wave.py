@@ -379,3 +379,16 @@ def test_stacks_need_whole_cells_per_layer():
     assert table_request("Y15/B15", "sphere:300").wave.grid[2] == 2 * table_request("R15", "sphere:300").wave.grid[2]
     with pytest.raises(RequestError, match="rough top"):
         small(ink="Y15/B15", particles="sphere:300:rough")
+
+
+def test_the_exact_energy_identity_is_checked_once_per_realization(table_and_request):
+    """One unit per realization evaluates the scheme-exact identity (rotating over the solved
+    wavelengths), and the built table records its result."""
+    from solver.table.wave_tier import exact_identity_checked
+
+    req = table_request("R15", "sphere:300")
+    solved = req.solved_wavelength_indices
+    for r in range(req.wave.realizations):
+        assert [li for li in solved if exact_identity_checked(req, r, li)] == [solved[r % len(solved)]]
+    table, _ = table_and_request
+    assert 0 < table.meta["errors"]["energy_closure_exact_sampled_max"] < 1e-3

@@ -215,6 +215,6 @@ def estimate_lines(meta: dict) -> list[str]:
     else:
         exact = errors.get("energy_closure_exact_sampled_max")
         lines.append(f"energy closure {closure:.2g} (the solver's residual R+T+A−1"
-                     + (f"; scheme-exact identity {exact:.2g} on one sampled solve per unit" if exact is not None
+                     + (f"; scheme-exact identity {exact:.2g} on one sampled solve per realization" if exact is not None
                         else "") + ")")
     return lines
