@@ -21,7 +21,8 @@
    a few cells (tables kept in out/bench/presets_cache); presets-quick: the two cells whose
    fine tables take about a minute; presets-span: six cells across the columns (~45 min
    the first time); candidates: the default beside the former default and cheaper settings on the
-   six cells against their fine tables (after presets-span); none of them in the default run;
+   six cells against their fine tables (after presets-span; candidates-quick: the first four,
+   whose fine tables take ~20 min); none of them in the default run;
 5. fig7: the whole Fig. 7 at `preview` from an empty cache, timed (~25 min);
 6. steps: the map's colour steps between columns in the committed Fig. 7 CSV (the scale of 4);
 7. compare: the committed `default` row of Fig. 7 against the same cells at `preview`;
@@ -453,9 +454,10 @@ def main(argv=None) -> int:
                 "sample-row-former": lambda: fig7_sample(overrides=FORMER_DEFAULT, one_row=True),
                 "presets-quick": lambda: preset_errors(QUICK_PRESET_CELLS),
                 "presets-span": lambda: preset_errors(SPAN_PRESET_CELLS),
-                "candidates": candidate_errors}
+                "candidates": candidate_errors,
+                "candidates-quick": lambda: candidate_errors(SPAN_PRESET_CELLS[:4])}
     for name in (argv or [n for n in sections if not n.startswith("sample") and not n.startswith("presets-")
-                            and not n.startswith("se-") and n != "candidates"]):
+                            and not n.startswith("se-") and not n.startswith("candidates")]):
         sections[name]()
     return 0
 

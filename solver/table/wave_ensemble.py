@@ -28,6 +28,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..thinfilm import to_mitsuba_convention
+from .jackknife import standard_error
 from .orders_to_brdf import isotropize_normal, spread_orders, symmetrize_reciprocal
 from .request import TableRequest
 from .schema import InkTable
@@ -95,8 +96,7 @@ def _jackknife(per_real: list[np.ndarray]) -> np.ndarray:
     n = per_real[0].shape[0]
     if n < 2:
         return np.zeros(per_real[0].shape[1:])
-    jack = np.mean([np.abs((a.sum(axis=0)[None] - a) / (n - 1)) ** 2 for a in per_real], axis=0)
-    return np.sqrt((n - 1) / n * np.sum((jack - jack.mean(axis=0)) ** 2, axis=0))
+    return standard_error(np.mean([np.abs((a.sum(axis=0)[None] - a) / (n - 1)) ** 2 for a in per_real], axis=0))
 
 
 def reduce_units(request: TableRequest, units: list[list[dict]], meta: dict) -> InkTable:
