@@ -84,7 +84,7 @@ def plan_costs() -> None:
     print("   the default Fig. 7 beside other settings (`candidates` measures their colour against fine):")
     for name, overrides in DEFAULT_CANDIDATES.items():
         seconds = _figure_estimate(plan_cells(*FIGURES["fig7"], FigureSettings("default", tuple(overrides.items()))), 2)
-        print(f"     {name:28s} {duration(seconds)}")
+        print(f"     {name:34s} {duration(seconds)}")
 
 
 def se_check(cache: TableCache) -> None:

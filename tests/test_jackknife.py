@@ -202,3 +202,15 @@ def test_show_names_how_the_colour_se_is_known():
     assert line.startswith("  standard error of the * colour: L* ")
     assert "(jackknife over 3 realizations: 2 degrees of freedom)" in line
     assert "unknown (one realization)" in colour_lines(base, 0.9, M.DEFAULT)[-1]
+
+
+def test_show_says_the_strata_and_counts_degrees_right():
+    """Six cells, TE and TM on separate ones: 4 degrees of freedom, and the line says why."""
+    from types import SimpleNamespace
+
+    from solver.apps.cli.show import se_text
+
+    colour = SimpleNamespace(method="jackknife", se=np.array([0.2, 0.35, 0.29]), dof=4.0, source="realizations")
+    line = se_text(colour, 6, [0, 1, 0, 1, 0, 1])
+    assert line.endswith("(jackknife over 6 realizations, stratified 3 TE + 3 TM cells: 4 degrees of freedom)")
+    assert "1 degree of freedom)" in se_text(SimpleNamespace(method="jackknife", se=np.zeros(3), dof=1.0), 2)

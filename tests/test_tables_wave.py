@@ -392,3 +392,16 @@ def test_the_exact_energy_identity_is_checked_once_per_realization(table_and_req
         assert [li for li in solved if exact_identity_checked(req, r, li)] == [solved[r % len(solved)]]
     table, _ = table_and_request
     assert 0 < table.meta["errors"]["energy_closure_exact_sampled_max"] < 1e-3
+
+
+def test_the_brdf_standard_error_follows_the_brdf(alternating):
+    """R's standard error comes from its leave-one-out replicas, which went through the same
+    normal-incidence average and reciprocity as R: zero where R is zero in every replica
+    (grazing directions), equal to the stratified jackknife of the replicas elsewhere."""
+    from solver.table import jackknife
+
+    table, _ = alternating
+    zero = np.all(table.jackknife["R"] == 0, axis=0) & (table.R == 0)
+    assert zero.any() and np.all(table.errors["R"][zero] == 0)
+    np.testing.assert_allclose(table.errors["R"],
+                               jackknife.standard_error(table.jackknife["R"], table.meta["jackknife_groups"]))

@@ -261,7 +261,7 @@ def _main(argv) -> int:
     from solver.apps.separation import DotsError, print_image, printed_inks, read_image, write_textures
 
     args = build_parser().parse_args(argv)
-    configure_logging(args.verbose)
+    configure_logging(args.verbose, builds=True)
     settings = settings_from(args)
     if args.image is None and args.characterisation is None:
         raise UsageError("give an IMAGE to print (with -o page.xml), or --characterisation OUT.txt")

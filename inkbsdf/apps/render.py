@@ -216,7 +216,7 @@ def _main(argv) -> int:
     from inkbsdf.variant import VariantError, select_variant
 
     args = build_parser().parse_args(argv)
-    configure_logging(args.verbose)
+    configure_logging(args.verbose, builds=True)
     checked_seed(args.seed, "--seed", UsageError)
     if not (args.output or args.png):
         raise UsageError("give -o OUT.exr (linear), --png OUT.png (sRGB), or both")

@@ -30,6 +30,10 @@ from .schema import InkTable
 from .thinfilm_tier import request_film
 
 log = logging.getLogger("inkbsdf.tables")
+#: a build's first and last line ("computing table …", "table ready …"): what a command that builds
+#: tables on the way (render, print) shows without -v (solver/apps/cli/logs.py)
+BUILDS_LOGGER = "inkbsdf.tables.builds"
+builds = logging.getLogger(BUILDS_LOGGER)
 
 
 @dataclass(frozen=True)
@@ -239,6 +243,12 @@ def _reduce(request, tier, reason, report, units, solved, nr, timer):
         return spectral.refine(table, film, tuple(solved)) if refined else table
 
     table = jackknife.reduce_with_replicas(reduce, [[units[r, li] for li in solved] for r in range(nr)])
+    if table.jackknife is not None:
+        # R's standard error from its replicas: they went through the same normal-incidence
+        # average, reciprocity and refinement as R (the per-node spread before them does not:
+        # it put 0.6 on grazing nodes where R is 0)
+        r_err = jackknife.standard_error(table.jackknife["R"], table.meta.get("jackknife_groups"))
+        table = dataclasses.replace(table, errors={**table.errors, "R": r_err})
     return table, spectral.unsolved_breaking_energy(table, solved) if refined else []
 
 
@@ -278,11 +288,14 @@ def get_or_build(request: TableRequest, opts: BuildOptions | None = None) -> tup
         with opts.cache.lock(request):          # one builder per table, across threads and processes
             table = opts.cache.load(request)    # built meanwhile by whoever held the lock?
             if table is None:
-                log.info("computing table: %s", request.describe())
+                est = preflight.estimate(request, opts.workers).seconds
+                builds.info("computing table: %s%s", request.describe(), "" if est < 1 else
+                            f" (estimated {est:.0f} s for a quiet machine)" if est < 120 else
+                            f" (estimated {est / 60:.1f} min for a quiet machine)")
                 t0 = time.perf_counter()
                 table = build_table(request, opts)
                 path = opts.cache.store(request, table)
-                log.info("table ready in %.1f s: %s", time.perf_counter() - t0, path)
+                builds.info("table ready in %.1f s: %s", time.perf_counter() - t0, path)
                 return table, str(path), True
     log.info("cache hit for %s", request.describe())
     return table, str(opts.cache.table_path(request)), False

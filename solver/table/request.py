@@ -302,7 +302,7 @@ class TableRequest:
         w = self.wave
         others = ("seed", "tier", "tolerance", "solver_tol", "target_se", "wavelength_stride") + (
             ("max_realizations",) if w.target_se is not None else ())   # the cap means nothing alone
-        return (f"{what}, {w.realizations} realizations × {w.azimuths} azimuths, grid "
+        return (f"{what}, {w.realizations} realizations × {w.azimuths} azimuth{'s' if w.azimuths != 1 else ''}, grid "
                 f"{'×'.join(map(str, w.grid))} over {w.cell_nm:g} nm"
                 + "".join(f", {OPTION[k]} {getattr(w, k)}" for k in others
                           if getattr(w, k) != getattr(_DEFAULT_WAVE, k)))

@@ -8,6 +8,7 @@ import time
 from pathlib import Path
 
 from solver.table.atomic import atomic_copy
+from solver.table import preflight
 from solver.table.builder import BuildOptions, get_or_build
 from solver.table.cache import TableCache
 from solver.table.executor import default_workers
@@ -17,6 +18,11 @@ from solver.table.request import (ACCURACY, DEFAULT_POLARISATION, DEFAULT_THICKN
 from .parsing import PARTICLE_GRAMMAR, PARTICLE_GRAMMAR_KEY, DefaultsFormatter, uniform_angles, wavelength_range, writable_output
 
 log = logging.getLogger("ink-tables")
+
+
+def _per_preset(field: str) -> str:
+    """'default 6, preview 2, fine 6': a wave setting in every accuracy preset (--help)."""
+    return ", ".join(f"{name} {getattr(preset, field):g}" for name, (preset, _) in ACCURACY.items())
 
 
 def given_request_options(args) -> list[str]:
@@ -65,11 +71,12 @@ def _cli_spec() -> dict:
                              "unpolarised light"), None),
         "accuracy": (dict(choices=tuple(ACCURACY), default="default",
                           help="preset of the settings below (docs/tables.md: error and cost of each)"), None),
-        "realizations": (dict(type=int, help=f"random cells per wavelength (default {w.realizations})"), None),
+        "realizations": (dict(type=int, help=f"random cells per wavelength (default: the preset's, {_per_preset('realizations')})"), None),
         "target_se": (dict(type=float, help="add realizations until the largest standard error of Rbar and Tbar is "
                            "at most this (starting from --realizations, at most --max-realizations)"), None),
         "max_realizations": (dict(type=int, help=f"cap for --target-se (default {w.max_realizations})"), None),
-        "azimuths": (dict(type=int, help=f"incidence azimuths per realization (default {w.azimuths})"), None),
+        "azimuths": (dict(type=int, help=f"incidence azimuths per realization; 1: TE and TM alternate over the realizations "
+                                       f"(default: the preset's, {_per_preset('azimuths')})"), None),
         "tolerance": (dict(type=float, help="allowed error in Rbar/Tbar/diffuse when choosing the cheapest tier "
                            f"(default {w.tolerance:g})"), None),
         "tier": (dict(choices=TIERS, help="model: auto (measured choice), effective-medium (mean-ε film), born "
@@ -77,7 +84,7 @@ def _cli_spec() -> dict:
         "cell_nm": (dict(type=float, help=f"lateral period of the cell, nm (default {w.cell_nm:g})"), None),
         "grid": (dict(type=int, nargs=3, metavar=("NX", "NY", "NZ"),
                       help="voxels of the cell (default {} {} {})".format(*w.grid)), tuple),
-        "solver_tol": (dict(type=float, help=f"wave solver relative residual (default {w.solver_tol:g})"), None),
+        "solver_tol": (dict(type=float, help=f"wave solver relative residual (default: the preset's, {_per_preset('solver_tol')})"), None),
         "seed": (dict(type=int, help=f"random seed of the realizations (default {w.seed})"), None),
         "wavelength_stride": (dict(type=int, metavar="K", help=f"solve the wave ensemble on every K-th wavelength "
                                    "(and the last) and interpolate its difference to the exact film of the ink "
@@ -162,6 +169,13 @@ def options_from_args(args) -> BuildOptions:
                         force=args.force, **kw)
 
 
+def _estimate_note(request, opts: BuildOptions, built: bool) -> str:
+    """'; estimated 10 s for a quiet machine' beside a build's time (the preflight's model),
+    nothing for a cache hit or a film (milliseconds)."""
+    seconds = preflight.estimate(request, opts.workers).seconds if built else 0.0
+    return f"; estimated {seconds:.0f} s for a quiet machine" if seconds >= 1 else ""
+
+
 def run(args) -> int:
     request = request_from_args(args)
     opts = options_from_args(args)
@@ -176,7 +190,7 @@ def run(args) -> int:
     meta = table.meta
     print(f"{out}: ink {request.ink_label}, particles {request.particles_label}, {meta['tier']} tier, "
           f"{table.wavelengths.size} wavelengths, {table.sigma.size} angles, {request.polarisation} "
-          f"({'built' if built else 'from cache'} in {time.perf_counter() - t0:.1f} s)")
+          f"({'built' if built else 'from cache'} in {time.perf_counter() - t0:.1f} s{_estimate_note(request, opts, built)})")
     if built and meta.get("timings_s"):
         print("  stage seconds: " + ", ".join(f"{k} {v:.1f}" for k, v in meta["timings_s"].items()))
     if meta.get("tier_probe"):

@@ -9,6 +9,8 @@ from __future__ import annotations
 import argparse
 import logging
 
+from solver.table.builder import BUILDS_LOGGER
+
 #: the loggers whose level the commands set: this package's ("inkbsdf.*", the commands'
 #: "ink-tables"), and "inkbsdf.tables", which a scene load outside a command sets to INFO
 #: (inkbsdf.source.show_build_log)
@@ -28,17 +30,22 @@ class LineFormatter(logging.Formatter):
     them; `INFO logger: message` for what -v adds."""
 
     def format(self, record: logging.LogRecord) -> str:
+        if record.name == BUILDS_LOGGER and record.levelno == logging.INFO:
+            return f"inkbsdf: {record.getMessage()}"
         if record.levelno >= logging.WARNING:
             return f"{record.levelname.lower()}: {record.getMessage()}"
         return f"{record.levelname} {record.name}: {record.getMessage()}"
 
 
-def configure_logging(verbose: bool) -> None:
-    """Warnings on stderr always; with `verbose` also this package's INFO and DEBUG lines. The
-    handler is installed once per process, unless the application (or pytest) configured
-    logging already; the levels are set at every call."""
+def configure_logging(verbose: bool, builds: bool = False) -> None:
+    """Warnings on stderr always; with `verbose` also this package's INFO and DEBUG lines; with
+    `builds` (commands that build tables on the way: render, print) a table build's first and
+    last line even without `verbose` ('inkbsdf: computing table: … (estimated 40 s …)', so a
+    long scene load is not silent). The handler is installed once per process, unless the
+    application (or pytest) configured logging already; the levels are set at every call."""
     handler = logging.StreamHandler()
     handler.setFormatter(LineFormatter())
     logging.basicConfig(level=logging.WARNING, handlers=[handler])
     for name in PACKAGE_LOGGERS:
         logging.getLogger(name).setLevel(logging.DEBUG if verbose else logging.NOTSET)
+    logging.getLogger(BUILDS_LOGGER).setLevel(logging.INFO if builds or verbose else logging.NOTSET)

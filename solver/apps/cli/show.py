@@ -72,23 +72,29 @@ def colour_lines(table, paper: float, measurement: Measurement) -> list[str]:
         lines.append(f" {mark}{name:>8}: L*a*b* = ({lab[0]:5.1f}, {lab[1]:6.1f}, {lab[2]:6.1f}), hue {hue:3.0f}°, "
                      f"chroma {chroma:5.1f}, sRGB {tuple(int(v) for v in lab_to_srgb8(lab, m.illuminant, m.observer))}"
                      f"  — {geometry.description}")
+    groups = table.meta.get("jackknife_groups") if table.jackknife else None
     count = len(table.jackknife[next(iter(table.jackknife))]) if table.jackknife else None
-    lines.append(f"  standard error of the * colour: {se_text(table_colour(table, paper, measurement), count)}")
+    lines.append(f"  standard error of the * colour: {se_text(table_colour(table, paper, measurement), count, groups)}")
     return lines
 
 
-def se_text(colour, realizations: int | None = None) -> str:
-    """'L* 0.16, a* 0.34, b* 0.32 (jackknife over 6 realizations: 4 degrees of freedom)', or
-    how it is known otherwise (solver/colour/table_colour.py `method`); realizations: the
-    jackknife's replica count (its degrees of freedom are fewer by the TE/TM groups)."""
+def se_text(colour, realizations: int | None = None, groups=None) -> str:
+    """'L* 0.16, a* 0.34, b* 0.32 (jackknife over 6 realizations, stratified 3 TE + 3 TM: 4 degrees
+    of freedom)', or how it is known otherwise (solver/colour/table_colour.py `method`);
+    realizations: the jackknife's replica count; groups: each realization's polarisation
+    (TE 0, TM 1) where TE and TM were solved on separate cells (their strata cost one degree of
+    freedom each)."""
     if colour.method == "unknown":
         return "unknown (one realization)"
     if colour.method == "exact":
         return "0 (exact film)"
     values = ", ".join(f"{k} {v:.2g}" for k, v in zip(("L*", "a*", "b*"), colour.se))
+    dof = f"{colour.dof:g} degree{'s' if colour.dof != 1 else ''} of freedom"
     if colour.method == "jackknife":
         count = colour.dof + 1 if realizations is None else realizations
-        return f"{values} (jackknife over {count:g} realizations: {colour.dof:g} degrees of freedom)"
+        strata = (f", stratified {list(groups).count(0)} TE + {list(groups).count(1)} TM cells"
+                  if groups else "")
+        return f"{values} (jackknife over {count:g} realizations{strata}: {dof})"
     return f"{values} (propagated bound from the nodes' standard errors, {colour.source})"
 
 
