@@ -98,6 +98,11 @@ def se_text(colour, realizations: int | None = None, groups=None) -> str:
     return f"{values} (propagated bound from the nodes' standard errors, {colour.source})"
 
 
+def _generator(gen) -> str:
+    """'inkbsdf.solver 0.1.0' from the meta's {'name', 'version'} (anything else as it is)."""
+    return f"{gen.get('name')} {gen.get('version')}" if isinstance(gen, dict) else str(gen)
+
+
 def summary(table, paper: float = PAPER_ALBEDO, measurement: Measurement = DEFAULT) -> str:
     meta = table.meta
     wl = table.wavelengths
@@ -107,7 +112,7 @@ def summary(table, paper: float = PAPER_ALBEDO, measurement: Measurement = DEFAU
         f"pigment ε {_pigment_eps(meta)}  schema v{meta.get('schema_version')}",
         f"wavelengths {wl[0]:g}–{wl[-1]:g} nm ({wl.size})  incidence angles {table.sigma.size}  "
         f"BRDF grid θ×Δφ {table.theta.size}×{table.dphi.size}  diffuse R: {'yes' if table.has_diffuse else 'none'}",
-        f"generator {meta.get('generator')}  seeds {meta.get('seeds')}",
+        f"generator {_generator(meta.get('generator'))}  seeds {meta.get('seeds')}",
     ]
     n_real = len(meta.get("seeds") or [])
     if table.errors:
