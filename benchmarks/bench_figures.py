@@ -377,7 +377,8 @@ SAMPLE_ROWS, QUICK_COLUMNS = 7, ("molecular", "sphere:100", "sphere:300", "spher
 
 
 #: `sample-row-former`: the former default (4 realizations × 2 azimuths, tol 1e-3) on the first
-#: sampled row, beside the same row of `sample` (same code, one session)
+#: sampled row, beside the same row of `sample` or `sample-row` (same code, one session);
+#: `sample-row-5`: 5 realizations × 1 on that row
 FORMER_DEFAULT = (("realizations", 4), ("azimuths", 2), ("solver_tol", 1e-3))
 
 
@@ -451,7 +452,9 @@ def main(argv=None) -> int:
                 "presets": preset_errors, "fig7": fig7_preview, "steps": map_steps,
                 "compare": preview_vs_default, "sample": fig7_sample,
                 "sample-quick": lambda: fig7_sample(quick=True),
+                "sample-row": lambda: fig7_sample(one_row=True),
                 "sample-row-former": lambda: fig7_sample(overrides=FORMER_DEFAULT, one_row=True),
+                "sample-row-5": lambda: fig7_sample(overrides=(("realizations", 5),), one_row=True),
                 "presets-quick": lambda: preset_errors(QUICK_PRESET_CELLS),
                 "presets-span": lambda: preset_errors(SPAN_PRESET_CELLS),
                 "candidates": candidate_errors,
