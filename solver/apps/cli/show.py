@@ -153,7 +153,13 @@ def plot_spectra(table, path: str) -> None:
         ax.grid(alpha=0.3)
     axes[0].set_ylabel("power fraction")
     axes[0].legend()
-    fig.tight_layout()
+    dof = (table.meta.get("errors") or {}).get("se_dof")
+    count = table.meta.get("realizations_used")
+    fig.text(0.5, 0.01, "error bars: ±1 standard error across the table's random cells"
+             + (f" ({count} realizations, {dof} degree{'s' if dof != 1 else ''} of freedom)" if count and dof else "")
+             if table.errors else "no error bars: the table is exact or has one realization",
+             ha="center", fontsize=8)
+    fig.tight_layout(rect=(0, 0.04, 1, 1))
     fig.savefig(path, dpi=110)
     plt.close(fig)
 
