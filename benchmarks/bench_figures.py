@@ -46,7 +46,8 @@ from solver.paper import PAPER_ALBEDO
 from solver.apps.figures.cells import CellResult, FigureSettings, estimates, plan_cells
 from solver.apps.figures.fig6 import DPHI_SAMPLES, azimuth_averaged, figure6, pixel_angles_rad
 from solver.apps.figures.layout import CellGeometry
-from solver.apps.figures.make import draw_grid_figure, duration, evaluate_cells
+from solver.apps.figures.make import draw_grid_figure, evaluate_cells
+from solver.table.preflight import duration
 from solver.apps.figures.paper_grid import FIG7_COLUMNS, FIG7_ROWS, FIGURES, Column
 from solver.table import preflight
 from solver.table.builder import BuildOptions, build_table

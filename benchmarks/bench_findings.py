@@ -32,7 +32,7 @@ import numpy as np
 
 from solver.apps.figures import FigureSettings, make_figure, parse_columns, parse_rows
 from solver.apps.figures.findings import VERDICTS, evaluate, summary_table
-from solver.apps.figures.make import duration
+from solver.table.preflight import duration
 from solver.apps.figures.models import MODELS
 from solver.apps.figures.paper_grid import TITLES
 from solver.colour import measurement as M

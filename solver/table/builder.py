@@ -243,12 +243,6 @@ def _reduce(request, tier, reason, report, units, solved, nr, timer):
         return spectral.refine(table, film, tuple(solved)) if refined else table
 
     table = jackknife.reduce_with_replicas(reduce, [[units[r, li] for li in solved] for r in range(nr)])
-    if table.jackknife is not None:
-        # R's standard error from its replicas: they went through the same normal-incidence
-        # average, reciprocity and refinement as R (the per-node spread before them does not:
-        # it put 0.6 on grazing nodes where R is 0)
-        r_err = jackknife.standard_error(table.jackknife["R"], table.meta.get("jackknife_groups"))
-        table = dataclasses.replace(table, errors={**table.errors, "R": r_err})
     return table, spectral.unsolved_breaking_energy(table, solved) if refined else []
 
 
@@ -281,17 +275,15 @@ def get_or_build(request: TableRequest, opts: BuildOptions | None = None) -> tup
         table = None
     if table is None:
         opts.cache.check()                      # building: the cache must be writable
-        preflight.check(request, opts.workers, opts.cache.root, force=opts.force)
+        est = preflight.check(request, opts.workers, opts.cache.root, force=opts.force).seconds
         if opts.scheduler and not request.molecular:
             check_scheduler(opts.scheduler)
         opts.cache.sweep()
         with opts.cache.lock(request):          # one builder per table, across threads and processes
             table = opts.cache.load(request)    # built meanwhile by whoever held the lock?
             if table is None:
-                est = preflight.estimate(request, opts.workers).seconds
                 builds.info("computing table: %s%s", request.describe(), "" if est < 1 else
-                            f" (estimated {est:.0f} s for a quiet machine)" if est < 120 else
-                            f" (estimated {est / 60:.1f} min for a quiet machine)")
+                            f" (estimated {preflight.duration(est)} for a quiet machine)")
                 t0 = time.perf_counter()
                 table = build_table(request, opts)
                 path = opts.cache.store(request, table)

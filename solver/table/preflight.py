@@ -97,7 +97,7 @@ class Estimate:
             parts.append(f"{self.grains:,} grains per cell")
         if self.solves:
             parts.append(f"{self.solves:,} wave solves")
-        parts.append(f"≈ {_duration(self.seconds)}")
+        parts.append(f"≈ {duration(self.seconds)}")
         return ", ".join(parts)
 
 
@@ -108,7 +108,8 @@ def _size(n: float) -> str:
     return f"{int(n)} B"
 
 
-def _duration(s: float) -> str:
+def duration(s: float) -> str:
+    """'12 s', '4.5 min', '1.1 h': a time in seconds as the estimates and the figures say it."""
     if s >= 3600:
         return f"{s / 3600:.1f} h"
     return f"{s / 60:.1f} min" if s >= 60 else f"{s:.0f} s"
@@ -256,7 +257,7 @@ def check_geometry(layer, grid: tuple[int, int, int], *, force: bool = False):
     what = (f"{layer.ink.label} {layer.particles.label} H={layer.thickness_nm:g} nm, cell "
             f"{layer.cell_nm[0]:g}×{layer.cell_nm[1]:g} nm, grid {nx}×{ny}×{nz}")
     cost = geometry_cost(layer, grid)
-    estimate_text = f"{cost.grains:,} grains, ≈ {_duration(cost.seconds)}"
+    estimate_text = f"{cost.grains:,} grains, ≈ {duration(cost.seconds)}"
     problem = memory_exceeded(cost.peak_bytes)
     if problem and not force:
         raise PreflightError(f"{what}: refused before starting: {problem} (estimate: {estimate_text}; "
@@ -267,5 +268,5 @@ def check_geometry(layer, grid: tuple[int, int, int], *, force: bool = False):
     if cost.seconds > LONG_BUILD_S:
         log.warning("%s will take long: %s (%s)", what, estimate_text, GEOMETRY_FIX)
     elif cost.seconds > GEOMETRY_NOTE_S:
-        log.info("geometry: ≈ %s (estimate: %s grains)", _duration(cost.seconds), f"{cost.grains:,}")
+        log.info("geometry: ≈ %s (estimate: %s grains)", duration(cost.seconds), f"{cost.grains:,}")
     return cost

@@ -19,7 +19,7 @@ from solver.colour.cie import lab_hue_chroma
 from solver.colour.measurement import DEFAULT, DEFAULT_GEOMETRY, GEOMETRIES, Measurement
 from solver.colour.srgb import lab_to_srgb8
 from solver.paper import PAPER_ALBEDO, check_paper_albedo
-from solver.table import read_table
+from solver.table import jackknife, read_table
 from solver.table.evaluate import column_at
 from ..figures.fig6 import plot_figure6
 from .build import (add_cache_argument, add_request_arguments, cache_from_args, given_request_options,
@@ -73,7 +73,7 @@ def colour_lines(table, paper: float, measurement: Measurement) -> list[str]:
                      f"chroma {chroma:5.1f}, sRGB {tuple(int(v) for v in lab_to_srgb8(lab, m.illuminant, m.observer))}"
                      f"  — {geometry.description}")
     groups = table.meta.get("jackknife_groups") if table.jackknife else None
-    count = len(table.jackknife[next(iter(table.jackknife))]) if table.jackknife else None
+    count = jackknife.count(table) or None
     lines.append(f"  standard error of the * colour: {se_text(table_colour(table, paper, measurement), count, groups)}")
     return lines
 

@@ -15,6 +15,7 @@ from pathlib import Path
 from solver.colour.table_colour import node_errors, table_colour
 from solver.paper import PAPER_ALBEDO
 from solver.table.builder import BuildOptions, pooled
+from solver.table.preflight import duration
 from . import findings
 from .cells import (CellResult, FigureSettings, build_cells, estimates, failure_reason, plan_cells,
                     refuse_what_cannot_fit)
@@ -36,12 +37,6 @@ class FigureOutput:
     report: Path | None
     records: list[CellRecord]
     spectra: Path | None = None          # Fig. 9: the plotted curves, one line per (curve, λ)
-
-
-def duration(seconds: float) -> str:
-    if seconds >= 3600:
-        return f"{seconds / 3600:.1f} h"
-    return f"{seconds / 60:.1f} min" if seconds >= 60 else f"{seconds:.0f} s"
 
 
 def grid_caption(settings: FigureSettings) -> str:
