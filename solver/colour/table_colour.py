@@ -6,7 +6,8 @@ result's `method`:
   'jackknife'   a wave table holding its leave-one-out ensembles (`table.jackknife`, N ≥ 2
                 realizations; solver/table/jackknife.py): the colour c_k of each through the same
                 measurement (so Lab's nonlinearity and every correlation between nodes are in
-                it), SE² = (N − 1)/N Σ_k (c_k − c̄)² per L*, a*, b*, with N − 1 degrees of freedom.
+                it), SE² = (N − 1)/N Σ_k (c_k − c̄)² per L*, a*, b*, with N − 1 degrees of freedom
+                (stratified by TE/TM cells where they were solved separately: N − 2; jackknife.py).
                 Every wave table built by this version has it;
   'propagated'  otherwise (older wave tables; an effective-medium table's model deviation): the
                 bound below, propagated from the nodes' standard errors;
