@@ -465,3 +465,13 @@ def test_show_usage_names_the_three_ways_to_give_the_table(capsys):
     status, _, err = run_main(main, ["show"], capsys)              # a bad call: what to give, one line
     assert status == 2 and err.count("\n") == 1 and err.startswith("ink-tables show: error: "), err
     assert all(word in err for word in ("FILE.npz", "KEY", "--ink INK", "see --help")), err
+
+
+def test_the_commands_load_no_numpy_before_their_interrupt_handling():
+    """ink-tables imports its package (and the logging setup) before main() installs its SIGINT
+    and SIGTERM handling; what loads NumPy or SciPy comes inside it, so an interrupt while they
+    load is one line and exit 130, not a traceback (tests/test_hardening_tables.py)."""
+    code = ("import sys; import solver.apps.cli; "
+            "print(sorted(m for m in ('numpy', 'scipy') if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0 and out.stdout.strip() == "[]", out.stdout + out.stderr

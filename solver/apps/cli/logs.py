@@ -9,8 +9,6 @@ from __future__ import annotations
 import argparse
 import logging
 
-from solver.table.builder import BUILDS_LOGGER
-
 #: the loggers whose level the commands set: this package's ("inkbsdf.*", the commands'
 #: "ink-tables"), and "inkbsdf.tables", which a scene load outside a command sets to INFO
 #: (inkbsdf.source.show_build_log)
@@ -27,10 +25,15 @@ def add_verbose(parser: argparse.ArgumentParser, default=False, note: str = "") 
 
 class LineFormatter(logging.Formatter):
     """`warning: message` (the level in lower case) for warnings and errors, as the commands say
-    them; `INFO logger: message` for what -v adds."""
+    them; `inkbsdf: message` for a table build's first and last line (the logger `builds`);
+    `INFO logger: message` for what -v adds."""
+
+    def __init__(self, builds: str | None = None):
+        super().__init__()
+        self.builds = builds
 
     def format(self, record: logging.LogRecord) -> str:
-        if record.name == BUILDS_LOGGER and record.levelno == logging.INFO:
+        if record.name == self.builds and record.levelno == logging.INFO:
             return f"inkbsdf: {record.getMessage()}"
         if record.levelno >= logging.WARNING:
             return f"{record.levelname.lower()}: {record.getMessage()}"
@@ -43,8 +46,12 @@ def configure_logging(verbose: bool, builds: bool = False) -> None:
     last line even without `verbose` ('inkbsdf: computing table: … (estimated 40 s …)', so a
     long scene load is not silent). The handler is installed once per process, unless the
     application (or pytest) configured logging already; the levels are set at every call."""
+    # the table builder (NumPy, SciPy) is imported here, not with this module: the commands
+    # import this module before their interrupt handling is in place (solver/apps/cli/__init__.py)
+    from solver.table.builder import BUILDS_LOGGER
+
     handler = logging.StreamHandler()
-    handler.setFormatter(LineFormatter())
+    handler.setFormatter(LineFormatter(BUILDS_LOGGER))
     logging.basicConfig(level=logging.WARNING, handlers=[handler])
     for name in PACKAGE_LOGGERS:
         logging.getLogger(name).setLevel(logging.DEBUG if verbose else logging.NOTSET)
