@@ -39,12 +39,13 @@ MODES = ("auto", "layered", "none")
 
 @dataclass(frozen=True, eq=False)
 class Layered:
-    """kept: indices of the kept harmonics in the flattened (nx·ny) FFT order; inverse:
-    (S, n, n) M_h⁻¹ for them, n = nb·nz, ordered (moment, z-cell); scale: 1/(nx·ny) when the
-    backend's inverse FFT does not normalise (else 1)."""
+    """kept: indices of the kept harmonics in the flattened (nx·ny) FFT order; inverse and
+    matrix: (S, n, n) M_h⁻¹ and M_h for them, n = nb·nz, ordered (moment, z-cell); scale:
+    1/(nx·ny) when the backend's inverse FFT does not normalise (else 1)."""
 
     kept: np.ndarray
     inverse: np.ndarray
+    matrix: np.ndarray
     scale: float
 
 
@@ -107,51 +108,83 @@ def _prepare(op) -> Layered:
         green = green * size                                       # the true G (zk folds 1/N)
     m = np.eye(n)[None] - np.moveaxis(green, 2, 0) * np.tile(vbar, nb)[None, None, :]
     inverse = op.fft.asarray(np.linalg.inv(m), op.dtype)
-    return Layered(op.fft.asarray(kept), inverse, 1.0 if op.fft.normalised else 1.0 / size)
+    return Layered(op.fft.asarray(kept), inverse, op.fft.asarray(m, op.dtype),
+                   1.0 if op.fft.normalised else 1.0 / size)
 
 
-def apply_inverse(lay: Layered, flat: np.ndarray) -> np.ndarray:
-    """M⁻¹ on lateral-DFT moments flat (nb, nz, nx·ny), in place (kept harmonics only)."""
+def _apply(matrices: np.ndarray, lay: Layered, flat: np.ndarray) -> np.ndarray:
+    """matrices (S, n, n) on the kept harmonics of lateral-DFT moments flat (nb, nz, nx·ny), in
+    place (the others unchanged)."""
     nb, nz, size = flat.shape
     rows = flat.reshape(nb * nz, size)
-    rows[:, lay.kept] = np.einsum("hij,jh->ih", lay.inverse, rows[:, lay.kept])
+    rows[:, lay.kept] = np.einsum("hij,jh->ih", matrices, rows[:, lay.kept])
     return flat
 
 
-def scatter(op, lay: Layered, w: np.ndarray, ws, out: np.ndarray | None = None) -> np.ndarray:
-    """K′·w = w − P⁻¹(I − GV)·w for z-major w (nb, nz, nx, ny), into out or a new array: the
-    map whose fixed-point equation w − K′w = P⁻¹b is the preconditioned system.  Per kept
-    harmonic, with g = (GVw)^ and ŵ the lateral DFT of w: ŵ + M_h⁻¹(g − ŵ); elsewhere g (P = I).
-    One more lateral DFT than an unpreconditioned application (ŵ)."""
+def apply_inverse(lay: Layered, flat: np.ndarray) -> np.ndarray:
+    """P⁻¹ (M_h⁻¹ on the kept harmonics) on lateral-DFT moments flat (nb, nz, nx·ny), in place."""
+    return _apply(lay.inverse, lay, flat)
+
+
+def unpreconditioned(op, lay: Layered, rh: np.ndarray) -> np.ndarray:
+    """P·r̂ in real space (a new z-major array) for the spectrum r̂ of a preconditioned residual:
+    the residual b − (I − GV)w of the system itself, since P(P⁻¹b − P⁻¹(I − GV)w) = b − (I − GV)w.
+    GMRES's residual comes from its Arnoldi relation (krylov.gmres), so the true residual costs
+    one inverse DFT here instead of an operator application."""
+    nb, nz, nx, ny = rh.shape
+    flat = rh.copy()
+    _apply(lay.matrix, lay, flat.reshape(nb, nz, nx * ny))
+    return op.fft.lateral(flat, inverse=True)
+
+
+def to_fourier(op, lay: Layered, w: np.ndarray) -> np.ndarray:
+    """ŵ = lay.scale · DFT(w) of z-major moments w (nb, nz, nx, ny), a new array: the lateral
+    spectrum in the convention of apply_z's output, so that the backend's inverse lateral DFT
+    of ŵ is w again."""
+    wh = op.fft.lateral(op.fft.asarray(w).copy())
+    if lay.scale != 1.0:
+        wh *= lay.scale
+    return wh
+
+
+def from_fourier(op, wh: np.ndarray) -> np.ndarray:
+    """w from its spectrum ŵ (to_fourier), a new array."""
+    return op.fft.lateral(wh.copy(), inverse=True)
+
+
+def scatter(op, lay: Layered, wh: np.ndarray, ws, out: np.ndarray | None = None) -> np.ndarray:
+    """K′·ŵ = ŵ − P⁻¹(I − GV)·ŵ on the lateral spectrum ŵ (to_fourier) of z-major moments
+    (nb, nz, nx, ny), into out or a new array: the map whose fixed-point equation ŵ − K′ŵ = P⁻¹b̂
+    is the preconditioned system.  The iteration runs on spectra (the DFT is unitary up to a
+    constant, so GMRES's iterates and relative residuals are those of the real-space system):
+    with w the inverse DFT of ŵ and g = (GVw)^, per kept harmonic ŵ + M_h⁻¹(g − ŵ), elsewhere g
+    (P = I) — two lateral DFTs per application, as an unpreconditioned one (in real space it
+    took a third, for ŵ)."""
     if out is None:
-        out = op.fft.empty(w.shape, op.dtype)
-    nb, nz, nx, ny = w.shape
+        out = op.fft.empty(wh.shape, op.dtype)
+    nb, nz, nx, ny = wh.shape
     size = nx * ny
-    spare = borrow(w.shape, op.dtype, op.fft)
+    spare = borrow(wh.shape, op.dtype, op.fft)
     try:
-        np.copyto(spare, w)
-        wh = op.fft.lateral(spare).reshape(nb * nz, size)[:, lay.kept]
+        np.copyto(spare, wh)
+        w = op.fft.lateral(spare, inverse=True)
+        fh = op.fft.lateral(np.multiply(op.contrast_zmajor, w, out=out))
     finally:
         give_back(spare, backend=op.fft)
-    if lay.scale != 1.0:
-        wh *= lay.scale                                   # the scale of apply_z's output
-    fh = op.fft.lateral(np.multiply(op.contrast_zmajor, w, out=out))
     flat = fh.reshape(nb, nz, size)
     apply_z(op.zk, flat, ws.z)
     rows = flat.reshape(nb * nz, size)
-    rows[:, lay.kept] = wh + np.einsum("hij,jh->ih", lay.inverse, rows[:, lay.kept] - wh)
-    g = op.fft.lateral(fh, inverse=True)
-    if not op.fft.same_buffer(g, out):
-        np.copyto(out, g)
+    src = wh.reshape(nb * nz, size)[:, lay.kept]
+    rows[:, lay.kept] = src + np.einsum("hij,jh->ih", lay.inverse, rows[:, lay.kept] - src)
+    if not op.fft.same_buffer(fh, out):
+        np.copyto(out, fh)
     return out
 
 
 def right_hand_side(op, lay: Layered, b: np.ndarray) -> np.ndarray:
-    """M⁻¹·b for a z-major right-hand side b (a new array)."""
+    """The spectrum (to_fourier's convention) of M⁻¹·b for a z-major right-hand side b (a new
+    array)."""
     nb, nz, nx, ny = b.shape
-    fh = op.fft.lateral(b.copy())
+    fh = to_fourier(op, lay, b)
     apply_inverse(lay, fh.reshape(nb, nz, nx * ny))
-    out = op.fft.lateral(fh, inverse=True)
-    if lay.scale != 1.0:
-        out *= lay.scale
-    return out
+    return fh

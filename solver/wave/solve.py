@@ -109,22 +109,26 @@ def _gmres_restart(op: LayerOperator) -> int:
 
 def _layered_gmres(op: LayerOperator, b: np.ndarray, ws: Workspace, tol: float, maxiter: int,
                    restart: int, x0: np.ndarray | None, callback: Callback) -> KrylovOutcome:
-    """GMRES on the layered-preconditioned system w − M⁻¹GV′w = M⁻¹b (layered.py) until the
-    *true* relative residual ‖b − (I − GV)w‖/‖b‖ meets tol: each round ends with one explicit
-    residual (one application); a round that met its own tolerance but not the true one is
-    followed by a tighter one from its iterate.  The outcome's residual vector is the true one
-    (the energy closure reads it)."""
+    """GMRES on the layered-preconditioned system w − M⁻¹GV′w = M⁻¹b (layered.py), iterated on
+    the lateral spectra of w (layered.scatter), until the *true* relative residual
+    ‖b − (I − GV)w‖/‖b‖ meets tol: each round ends with the true residual, P times the
+    preconditioned one that GMRES's Arnoldi relation gives (layered.unpreconditioned: no
+    application); a round that met its own tolerance but not the true one is followed by a
+    tighter one from its iterate.  The outcome's residual vector is the true one (the energy
+    closure reads it)."""
     lay = layered.prepare_layered(op)
     bp = layered.right_hand_side(op, lay, b)
     bnorm = float(np.linalg.norm(b.ravel())) or 1.0
-    x, apps, history, inner_tol, rel, r = x0, 0, [], tol, math.inf, None
+    xh = None if x0 is None else layered.to_fourier(op, lay, x0)
+    apps, history, inner_tol, rel, r, x = 0, [], tol, math.inf, None, x0
     for _ in range(4):
         out = gmres(lambda v, o: layered.scatter(op, lay, v, ws, o), bp, tol=inner_tol,
-                    maxiter=maxiter - apps, restart=restart, backend=op.fft, x0=x, callback=callback)
-        apps += out.applications + 1
+                    maxiter=maxiter - apps, restart=restart, backend=op.fft, x0=xh, callback=callback)
+        apps += out.applications
         history.extend(out.residuals)
-        x = out.x
-        r = b - system_zmajor(op, x, ws)
+        xh = out.x
+        x = layered.from_fourier(op, xh)
+        r = layered.unpreconditioned(op, lay, out.residual_vector)
         rel = float(np.linalg.norm(r.ravel())) / bnorm
         if rel <= tol or apps >= maxiter or not out.converged:
             break
