@@ -23,7 +23,8 @@
    the first time); candidates: the default beside the former default and cheaper settings on the
    six cells against their fine tables (after presets-span; candidates-quick: the first four,
    whose fine tables take ~20 min); none of them in the default run;
-5. fig7: the whole Fig. 7 at `preview` from an empty cache, timed (~25 min);
+5. fig7: the whole Fig. 7 at `preview` from an empty cache, timed, with the yardstick (~20 min);
+   fig7-default: the same at `default` (~1 h; not part of the default run);
 6. steps: the map's colour steps between columns in the committed Fig. 7 CSV (the scale of 4);
 7. compare: the committed `default` row of Fig. 7 against the same cells at `preview`;
 8. sample / sample-quick: the `default` Fig. 7's build time extrapolated from a stratified
@@ -320,20 +321,28 @@ def candidate_errors(cells=SPAN_PRESET_CELLS, candidates=DEFAULT_CANDIDATES) -> 
           + "  ".join(f"{np.median(errors[c]):>9.2f} / {max(errors[c]):4.2f}, {seconds[c]:5.0f} s" for c in candidates))
 
 
-def fig7_preview() -> None:
-    """The whole Fig. 7 at `preview` from an empty cache, as a user runs it (the issue's ≤ 1 h)."""
+def fig7_whole(accuracy: str = "preview") -> None:
+    """The whole Fig. 7 at `accuracy` from an empty cache, as a user runs it (`ink-tables paper
+    fig7`, 2 workers), with the machine's yardstick before and after; CSV, report and picture
+    in out/bench/fig7_<accuracy>.{png,csv,md}."""
     import subprocess
 
+    from .bench_fresh import YARDSTICK, yardstick
+
     OUT.mkdir(parents=True, exist_ok=True)
+    before = yardstick(YARDSTICK)
     with tempfile.TemporaryDirectory(prefix="fig7_") as tmp:
         t0 = time.perf_counter()
-        out = subprocess.run([sys.executable, "-m", "solver.apps.cli", "paper", "fig7", "--accuracy", "preview",
-                              "--cache", tmp, "--no-progress", "--report", str(OUT / "fig7_preview.md"),
-                              "-o", str(OUT / "fig7_preview.png")], capture_output=True, text=True, check=True)
+        out = subprocess.run([sys.executable, "-m", "solver.apps.cli", "paper", "fig7", "--accuracy", accuracy,
+                              "--cache", tmp, "--no-progress", "--report", str(OUT / f"fig7_{accuracy}.md"),
+                              "-o", str(OUT / f"fig7_{accuracy}.png")], capture_output=True, text=True, check=True)
         wall = time.perf_counter() - t0
-    summary = [line for line in out.stdout.splitlines() if line.startswith("wrote")]
-    print(f"\n5. Fig. 7 at preview from an empty cache, 2 workers: {duration(wall)} ({wall:.0f} s); "
-          + (summary[0] if summary else ""))
+    after = yardstick(YARDSTICK)
+    said = [line.strip() for line in (out.stdout + out.stderr).splitlines() if "estimate" in line or line.startswith("wrote")]
+    print(f"\n5. Fig. 7 at {accuracy} from an empty cache, 2 workers: {duration(wall)} ({wall:.0f} s); "
+          f"yardstick {before:.3f} s before, {after:.3f} s after ({wall / (0.5 * (before + after)):.0f} yardsticks)")
+    for line in said:
+        print(f"   {line}")
 
 
 #: column pairs whose colour steps give the map's scale (`steps`)
@@ -450,7 +459,8 @@ def main(argv=None) -> int:
                 "se-cylinders-default": lambda: se_check_cylinders(cache, "default", 36),
                 "se-rotated": lambda: se_check_rotated_azimuths(cache),
                 "se-singles": lambda: se_singles(cache), "draw": lambda: drawing(cache),
-                "presets": preset_errors, "fig7": fig7_preview, "steps": map_steps,
+                "presets": preset_errors, "fig7": fig7_whole,
+                "fig7-default": lambda: fig7_whole("default"), "steps": map_steps,
                 "compare": preview_vs_default, "sample": fig7_sample,
                 "sample-quick": lambda: fig7_sample(quick=True),
                 "sample-row": lambda: fig7_sample(one_row=True),
@@ -461,6 +471,7 @@ def main(argv=None) -> int:
                 "candidates": candidate_errors,
                 "candidates-quick": lambda: candidate_errors(SPAN_PRESET_CELLS[:4])}
     for name in (argv or [n for n in sections if not n.startswith("sample") and not n.startswith("presets-")
+                            and n != "fig7-default"
                             and not n.startswith("se-") and not n.startswith("candidates")]):
         sections[name]()
     return 0

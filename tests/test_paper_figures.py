@@ -335,3 +335,38 @@ def test_every_cell_of_a_figure_is_sampled_alike():
         assert mol.grids.sigma_rad == grains.grids.sigma_rad
     drafted = FigureSettings("preview", (("wavelengths_nm", (400.0, 550.0, 700.0)),))
     assert drafted.request("Y15", "molecular").grids.wavelengths_nm == (400.0, 550.0, 700.0)
+
+
+def test_a_figures_tables_stop_where_its_colour_does(tmp_path):
+    """A figure's tables are only measured as colours (400–700 nm): they stop at 700 nm, so the
+    solves past it (740, 780 nm at `default`) are not computed — and what is computed is the
+    rendering table's own: identical values at the shared wavelengths, the same colour (E308
+    extends the 700-nm value; the weights beyond it are ≈ 1e-3 of the total)."""
+    from solver.colour.cie import REQUIRED_RANGE_NM
+    from solver.colour.table_colour import table_colour
+    from solver.paper import PAPER_ALBEDO
+    from solver.table.builder import BuildOptions, build_table
+    from solver.table.cache import TableCache
+    from solver.table.request import default_grids, table_request
+
+    for accuracy in ("preview", "default", "fine"):
+        figure = FigureSettings(accuracy).request("R15", "sphere:200")
+        full = default_grids(accuracy, molecular=False)[0]
+        assert figure.grids.wavelengths_nm == tuple(w for w in full if w <= REQUIRED_RANGE_NM[1])
+        assert figure.grids.wavelengths_nm[-1] == REQUIRED_RANGE_NM[1]
+        solved = [figure.grids.wavelengths_nm[i] for i in figure.solved_wavelength_indices]
+        assert solved[-1] == REQUIRED_RANGE_NM[1] and len(solved) < len(table_request(
+            "R15", "sphere:200", accuracy=accuracy).solved_wavelength_indices)
+    wave = (("grid", (12, 12, 6)), ("realizations", 2), ("tier", "full"))
+    settings = FigureSettings("preview", wave)
+    figure = settings.request("R15", "sphere:200")
+    rendering = table_request("R15", "sphere:200", accuracy="preview", sigma_rad=figure.grids.sigma_rad, **dict(wave))
+    assert rendering.grids.wavelengths_nm[-1] == 780.0
+    opts = BuildOptions(workers=1, progress=False, cache=TableCache(tmp_path))
+    a, b = build_table(rendering, opts), build_table(figure, opts)
+    n = b.wavelengths.size
+    for name in ("R", "R_spec", "Rbar", "Tbar", "Rbar_below"):
+        assert np.allclose(getattr(a, name)[:n], getattr(b, name), rtol=0, atol=1e-12), name   # rounding only
+    lab_a = table_colour(a, PAPER_ALBEDO, settings.colour_measurement).lab
+    lab_b = table_colour(b, PAPER_ALBEDO, settings.colour_measurement).lab
+    assert np.max(np.abs(lab_a - lab_b)) < 0.05

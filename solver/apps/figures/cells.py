@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 
 from tqdm import tqdm
 
+from solver.colour.cie import REQUIRED_RANGE_NM
 from solver.colour.measurement import Measurement
 from solver.geometry.spec import MOLECULAR_WORDS
 from solver.table.builder import BuildOptions, get_or_build
@@ -30,6 +31,17 @@ log = logging.getLogger("inkbsdf.figures")
 #: orientation spreads (degrees from the layer normal) tried for cylinders across the layer
 TILTS_DEG = (0.0, 5.0, 10.0, 15.0, 20.0, 25.0, 30.0, 40.0, 50.0, 60.0)
 GRID_OPTIONS = ("wavelengths_nm", "sigma_rad")
+
+
+def figure_grids(accuracy: str) -> tuple[tuple[float, ...], tuple[float, ...]]:
+    """A figure's wavelengths (nm) and incidence angles (rad): the particle preset's, the
+    wavelengths up to the first node at or past the colour's upper end (700 nm,
+    cie.REQUIRED_RANGE_NM).  A figure's tables are only measured as colours (E308 extends the
+    700-nm value beyond it), so the nodes past 700 nm — at `default` 740 and 780 nm, 2 of the 11
+    solved wavelengths — are not computed; a table for rendering keeps 380–780 nm."""
+    wavelengths, sigma = default_grids(accuracy, molecular=False)
+    upto = next((i for i, w in enumerate(wavelengths) if w >= REQUIRED_RANGE_NM[1] - 1e-9), len(wavelengths) - 1)
+    return wavelengths[:upto + 1], sigma
 
 
 @dataclass(frozen=True)
@@ -53,11 +65,12 @@ class FigureSettings:
         column-to-column difference is never a difference of spectral or angular sampling
         (at `preview`, 40-nm steps alone move a saturated film's colour by several ΔE)."""
         molecular = particles.strip().lower() in MOLECULAR_WORDS
-        kw = {k: v for k, v in self.overrides if k in GRID_OPTIONS or not molecular}
+        wavelengths, sigma = figure_grids(self.accuracy)
+        kw = {"wavelengths_nm": wavelengths, "sigma_rad": sigma,
+              **{k: v for k, v in self.overrides if k in GRID_OPTIONS or not molecular}}
         kw.update(self.model.request_options())
         if molecular:           # the preset gives its grids only: the film has no wave settings
-            wavelengths, sigma = default_grids(self.accuracy, molecular=False)
-            return table_request(ink, particles, **{"wavelengths_nm": wavelengths, "sigma_rad": sigma, **kw})
+            return table_request(ink, particles, **kw)
         return table_request(ink, particles, accuracy=self.accuracy, **kw)
 
     def particle_only(self) -> list[str]:
