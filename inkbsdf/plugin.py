@@ -32,6 +32,7 @@ from .inks import load_inks, numbered_inks, stack_lut
 from .mixing import LoopedPrint, PrintModel
 from .model import InkModel, safe_div
 from .premix import common_grid, premixed_lut
+from .source import scene_param
 from .polarized import depolarizing, in_stokes_frames, mirror_matrix
 from .variant import check_variant
 
@@ -175,9 +176,9 @@ def _define_class():
             # and call every registered BSDF. A refused object (kept alive by its exception's
             # reference cycles until the garbage collector runs) must never be registered, or
             # those calls meet its missing attributes ('no attribute premixed').
+            model = scene_param(props, "coverage_model", DEFAULT_COVERAGE_MODEL)
             try:
-                self.coverage_model = check_coverage_model(
-                    str(props.get("coverage_model", DEFAULT_COVERAGE_MODEL)))
+                self.coverage_model = check_coverage_model(model)
             except ValueError as exc:
                 raise InkParameterError(f"ink BSDF: {exc}") from None
             self.paper = props.get_texture("paper", PAPER_ALBEDO)

@@ -8,6 +8,7 @@ comes from the content-addressed cache of `solver.table.builder`.
 from __future__ import annotations
 
 import os
+import warnings
 from pathlib import Path
 
 import mitsuba as mi
@@ -15,6 +16,7 @@ import mitsuba as mi
 from solver.table import TableError
 from solver.table.options import OPTIONS, SCENE_PARAMS
 
+from .errors import InkParameterError
 from .lut import InkLUT, load_lut
 
 
@@ -28,16 +30,27 @@ def resolve_path(filename: str) -> Path:
 #: (derived from the one list of request options, solver/table/options.py).
 REQUEST_PARAMS = SCENE_PARAMS
 _INTEGER_PARAMS = tuple(o.scene for o in OPTIONS if o.scene and o.scene_type is int) + ("workers",)
+#: the parameters written as <string …/>, each with the example its type error shows
+STRING_PARAMS = {"ink": "R15", "particles": "sphere:300", "polarisation": "unpolarised", "accuracy": "default",
+                 "tier": "auto", "filename": "ink.npz", "cache": "tables", "coverage_model": "clapper-yule"}
+assert {o.scene for o in OPTIONS if o.scene and o.scene_type is str} <= set(STRING_PARAMS)
 
 #: worker processes for tables that scene loads build (set by `set_build_workers`)
 _build_workers: int | None = None
 
 
-def _prop(props, name: str):
-    """A scene parameter's value, integers checked (Mitsuba gives XML ints as int, floats as float)."""
+def scene_param(props, name: str, default=None):
+    """A scene parameter's value (`default` when absent), its type checked: integers (Mitsuba
+    gives XML ints as int, floats as float) and strings (STRING_PARAMS), in one line naming
+    the parameter and the XML that gives it."""
+    if name not in props:
+        return default
     value = props.get(name)
     if name in _INTEGER_PARAMS and not (isinstance(value, int) and not isinstance(value, bool)):
         raise TableError(f"ink BSDF: parameter '{name}' must be an integer, got {value!r}")
+    if name in STRING_PARAMS and not isinstance(value, str):
+        raise InkParameterError(f"ink BSDF: parameter '{name}' must be a <string> (e.g. "
+                                f'<string name="{name}" value="{STRING_PARAMS[name]}"/>), got {value!r}')
     return value
 
 
@@ -45,8 +58,15 @@ def table_request(props):
     """The TableRequest described by an `ink=...` BSDF (see REQUEST_PARAMS)."""
     from solver.table.request import table_request as make_request
 
-    kwargs = {arg: _prop(props, name) for name, arg in REQUEST_PARAMS.items() if name in props}
-    return make_request(kwargs.pop("ink"), kwargs.pop("particles", "molecular"), **kwargs)
+    from .errors import scene_wording
+
+    kwargs = {arg: scene_param(props, name) for name, arg in REQUEST_PARAMS.items() if name in props}
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
+        request = make_request(kwargs.pop("ink"), kwargs.pop("particles", "molecular"), **kwargs)
+    for warning in said:               # the request's warnings name the parameters, not --options
+        warnings.warn(scene_wording(str(warning.message)), warning.category, stacklevel=2)
+    return request
 
 
 def set_build_workers(workers: int | None) -> None:
@@ -68,7 +88,7 @@ def build_workers(props) -> int:
     executor, and such a script builds in one process with a warning.
     """
     if "workers" in props:
-        workers = _prop(props, "workers")
+        workers = scene_param(props, "workers")
         if workers < 1:
             raise TableError(f"ink BSDF: parameter 'workers' must be ≥ 1, got {workers}")
     elif _build_workers is not None:
@@ -112,13 +132,13 @@ def load_table(props) -> InkLUT:
 
         try:
             request = table_request(props)
-        except TableError:
+        except (TableError, InkParameterError):
             raise
         except ValueError as exc:       # RequestError, InkSpecError, ParticleSpecError
             raise TableError(f"ink BSDF: {exc}") from None
         from solver.table.preflight import PreflightError
 
-        cache = TableCache(Path(str(props.get("cache")))) if "cache" in props else TableCache.default()
+        cache = TableCache(Path(scene_param(props, "cache"))) if "cache" in props else TableCache.default()
         force = props.get("force") if "force" in props else False
         if not isinstance(force, bool):
             raise TableError(f"ink BSDF: parameter 'force' must be a boolean, got {force!r}")
@@ -131,7 +151,7 @@ def load_table(props) -> InkLUT:
     if "filename" not in props:
         raise TableError("ink BSDF: needs 'filename' (an ink table .npz, built with `ink-tables build`) "
                          "or 'ink' (e.g. 'Y7.5+B7.5', with optional 'particles', 'thickness')")
-    filename = str(props.get("filename"))
+    filename = scene_param(props, "filename")
     path = resolve_path(filename)
     if not path.is_file():
         raise TableError(f"{filename}: table file not found (looked relative to the scene file and "

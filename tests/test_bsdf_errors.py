@@ -139,6 +139,11 @@ def _load_from_depth(mi, spec, depth):
     ({"ink": "R30", "accuracy": "best"}, "InkParameterError: ink BSDF: parameter 'accuracy' 'best': choose one of"),
     ({"ink": "R30", "workers": "two"}, "TableError: ink BSDF: parameter 'workers' must be an integer"),
     ({"filename": "nowhere.npz"}, "TableError: nowhere.npz: table file not found"),
+    ({"ink": 15.0}, 'InkParameterError: ink BSDF: parameter \'ink\' must be a <string> (e.g. <string name="ink" '
+                    'value="R15"/>)'),
+    ({"ink": "R30", "particles": 3}, "InkParameterError: ink BSDF: parameter 'particles' must be a <string>"),
+    ({"filename": 3.0}, "InkParameterError: ink BSDF: parameter 'filename' must be a <string>"),
+    ({"coverage_model": 1.0}, "InkParameterError: ink BSDF: parameter 'coverage_model' must be a <string>"),
 ])
 def test_library_error_is_short_with_the_cause_and_fix(use_variant, ink_tables, params, needle):
     """mi.load_dict with a bad parameter: Mitsuba's message ends, on its third line, with the
@@ -158,6 +163,16 @@ def test_library_error_is_short_with_the_cause_and_fix(use_variant, ink_tables, 
     if "paper" in params:
         assert 'write e.g. <float name="paper" value=' in deep       # the fix: how to write it
     assert "--" not in deep                                          # no ink-tables option names
+
+
+def test_a_thin_in_scene_ink_is_warned_of_naming_the_parameter(use_variant, tmp_path):
+    """thickness=1 (µm typed as nm): the tables' thin-layer warning, worded for a scene."""
+    mi = use_variant("llvm_ad_spectral")
+    with pytest.warns(UserWarning) as said:
+        mi.load_dict({"type": "ink", "ink": "R15", "thickness": 1.0, "cache": str(tmp_path)})
+    messages = [str(w.message) for w in said]
+    assert any(m.startswith("parameter 'thickness' 1: a layer thinner than 50 nm") for m in messages), messages
+    assert not any("--" in m for m in messages), messages
 
 
 def test_unusable_cache_names_the_setting(use_variant, ink_tables, tmp_path, monkeypatch):

@@ -54,6 +54,8 @@ def test_build_and_show(tmp_path, capsys):
     (["geometry", "--ink", "R30", "--particles", "sphere:1500"], "a smaller grain or a thicker --thickness"),
     (["build", "--ink", "Y15/B15", "--thickness", "800,600,400", "-o", "x.npz"],
      "--thickness gives 3 values for 2 layers: give one value for all layers or 2, one per layer"),
+    (["build", "--ink", "R15", "--thickness", "1000,2000", "-o", "x.npz"],
+     "--thickness gives 2 values for 1 layer: give one value (nm)"),
 ])
 def test_bad_input_is_one_line(tmp_path, monkeypatch, capsys, args, words):
     monkeypatch.chdir(tmp_path)
@@ -475,3 +477,29 @@ def test_the_commands_load_no_numpy_before_their_interrupt_handling():
             "print(sorted(m for m in ('numpy', 'scipy') if m in sys.modules))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert out.returncode == 0 and out.stdout.strip() == "[]", out.stdout + out.stderr
+
+
+def test_realizations_above_the_default_cap_set_the_cap_when_it_is_not_given():
+    """--realizations alone never blames --max-realizations (the cap of --target-se, which the
+    user did not give): a cap not given follows it; one given with --target-se still binds."""
+    from solver.table.request import RequestError, WaveSettings, table_request
+
+    req = table_request("R15", "sphere:100", realizations=100)
+    assert req.wave.realizations == 100 and req.wave.max_realizations == 100
+    assert table_request("R15", "sphere:100", realizations=100, target_se=0.01).wave.max_realizations == 100
+    assert table_request("R15", "sphere:100").wave.max_realizations == WaveSettings().max_realizations
+    with pytest.warns(UserWarning, match="ignored without it"):      # the cap, written out, then means nothing
+        assert table_request(**req.to_options()) == req               # round-trips through a table's meta
+    with pytest.raises(RequestError, match=r"--max-realizations must be an integer ≥ --realizations \(100\)"):
+        table_request("R15", "sphere:100", realizations=100, target_se=0.01, max_realizations=50)
+
+
+def test_an_uncreatable_cache_does_not_claim_to_serve_tables(tmp_path, capsys, monkeypatch):
+    """A cache folder that does not exist serves nothing: the error does not say it does."""
+    from solver.table.cache import CacheError, TableCache
+
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    with pytest.raises(CacheError) as info:
+        TableCache(blocker / "cache").check()                 # under a file: cannot be created
+    assert "cannot be created" in str(info.value) and "still served" not in str(info.value)

@@ -186,6 +186,28 @@ def test_cli_prints_the_recipe_and_writes_the_json(tmp_path, capsys):
     assert float(delta_e2000(FilmColour(paper=0.8762).lab(recipe), np.array(entry["lab"]))) < 0.01
 
 
+def test_a_thickness_range_in_micrometres_is_warned_of_once_before_any_work(capsys, monkeypatch):
+    """--thickness-range 0.5,2 (µm typed as nm): the thin-layer rule of the tables
+    (request_checks.thin_layers_warning), said once for --thickness-range before the design
+    starts, and not again for each film the design computes."""
+    import warnings
+
+    import solver.design as design
+
+    def no_work(*a, **k):
+        raise AssertionError("work started")
+
+    monkeypatch.setattr(design, "design_ink", no_work)
+    with pytest.raises(AssertionError, match="work started"):
+        main(["design", "--aim", "50,-30,-40", "--pigments", "C", "--thickness-range", "0.5,2"])
+    err = capsys.readouterr().err
+    assert err.startswith("warning: --thickness-range 0.5, 2: a layer thinner than 50 nm") and err.count("\n") == 1, err
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        FilmColour().lab(Recipe((("C", 0.1),), 2.0))
+    assert not caught, [str(w.message) for w in caught]
+
+
 def test_cli_one_value_fixes_either_range_and_is_named_as_the_limit(capsys):
     """--load-range 5 fixes the loads as --thickness-range 1000 fixes the thickness (the help
     says so for both); an aim out of reach names them, with their options, as its limits."""

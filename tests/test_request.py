@@ -11,7 +11,7 @@ import pytest
 from solver.materials import default_materials, load_material_data
 from solver.table.fingerprint import file_digest
 from solver.apps.cli.parsing import wavelength_range
-from solver.table.request import RequestError, table_request
+from solver.table.request import RequestError, table_request, thin_layers_warning
 
 
 def _cli_request(*argv):
@@ -229,6 +229,8 @@ def test_a_thin_layer_is_warned_of_by_the_request_itself_after_validation():
 
     with pytest.warns(UserWarning, match="--thickness 1: a layer thinner than 50 nm"):
         table_request("Y15/B15", thickness_nm=(1.0, 1000.0))
+    assert thin_layers_warning([0.5, 2.0], "--thickness-range").startswith(
+        "--thickness-range 0.5, 2: a layer thinner than 50 nm")           # one rule, any option
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         table_request("G30", thickness_nm=50.0)

@@ -10,6 +10,7 @@ primary at full coverage (solver.printing).
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -19,7 +20,7 @@ from ..paper import PAPER_ALBEDO, check_paper_albedo
 from ..printing import PrintedInks, all_subsets, demichel_weights, stack_order
 from ..table.builder import BuildOptions, get_or_build
 from ..table.thinfilm_tier import request_film
-from ..table.request import LAYER_SEPARATOR, table_request
+from ..table.request import LAYER_SEPARATOR, ThinLayerWarning, table_request
 from .recipe import Recipe
 
 
@@ -49,8 +50,10 @@ class FilmColour:
         particles = LAYER_SEPARATOR.join(r.particles for r in recipes)
         thickness = [r.thickness_nm for r in recipes]
         inks = recipes[0].ink if len(recipes) == 1 else label
-        request = table_request(inks, particles, thickness_nm=thickness if len(recipes) > 1 else thickness[0],
-                                local_field=self.local_field)
+        with warnings.catch_warnings():       # a thin range is told once, for --thickness-range (cli/design.py)
+            warnings.simplefilter("ignore", ThinLayerWarning)
+            request = table_request(inks, particles, thickness_nm=thickness if len(recipes) > 1 else thickness[0],
+                                    local_field=self.local_field)
         if request.molecular:
             table = request_film(request)            # the thin-film tier's table of the request
             self.films += 1

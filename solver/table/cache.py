@@ -84,9 +84,11 @@ class TableCache:
                 (self.root / sub).mkdir(parents=True, exist_ok=True)
         except OSError as exc:
             what = "is not writable" if self.root.is_dir() else "cannot be created"
+            # a folder that exists and reads still serves its tables; one that does not exist, nothing
+            served = " (its tables are still served)" if self.root.is_dir() and os.access(self.root, os.R_OK | os.X_OK) \
+                else ""
             raise CacheError(f"{where} {self.root} {what} ({exc.strerror}), and building a table needs to write "
-                             "to it (its tables are still served): choose a writable folder with --cache or "
-                             "$INKBSDF_CACHE") from None
+                             f"to it{served}: choose a writable folder with --cache or $INKBSDF_CACHE") from None
         if not os.access(self.root / "tables", os.W_OK | os.X_OK):
             raise CacheError(f"{where} {self.root} is not writable: choose a writable folder with --cache "
                              "or $INKBSDF_CACHE")

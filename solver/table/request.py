@@ -35,7 +35,7 @@ from .fingerprint import code_fingerprint
 # the names and limits requests are checked against, re-exported: callers find them here
 from .options import OPTION, WAVE_OPTIONS
 from .request_checks import (MAX_ANGLES, TIERS, RequestError, ignored_on_molecular, parsed_option,  # noqa: F401
-                             thin_layers_warning, fringe_aliasing_warning, validate)
+                             ThinLayerWarning, thin_layers_warning, fringe_aliasing_warning, validate)
 from .schema import POLARISATIONS  # noqa: F401
 
 
@@ -330,6 +330,11 @@ def default_grids(accuracy: str, molecular: bool) -> tuple[tuple[float, ...], tu
     return (tuple(float(w) for w in np.arange(lo, hi + 0.5 * step, step)), tuple(float(s) for s in sigma))
 
 
+def _count(n: int, noun: str) -> str:
+    """'1 layer', '2 layers'."""
+    return f"{n} {noun}{'' if n == 1 else 's'}"
+
+
 def _layers(ink, particles, thickness_nm) -> tuple[Layer, ...]:
     if isinstance(ink, (tuple, list)) and ink and all(isinstance(x, Layer) for x in ink):
         return tuple(ink)
@@ -347,8 +352,9 @@ def _layers(ink, particles, thickness_nm) -> tuple[Layer, ...]:
              for p in parts]
     thick = thickness_nm if isinstance(thickness_nm, (tuple, list)) else [thickness_nm] * len(inks)
     if len(thick) != len(inks):
-        raise RequestError(f"--thickness gives {len(thick)} values for {len(inks)} layers: give one value for all "
-                           f"layers or {len(inks)}, one per layer (top first)")
+        fix = ("give one value (nm)" if len(inks) == 1
+               else f"give one value for all layers or {len(inks)}, one per layer (top first)")
+        raise RequestError(f"--thickness gives {_count(len(thick), 'value')} for {_count(len(inks), 'layer')}: {fix}")
     layers = []
     for ink_, spec, h in zip(inks, specs, thick):
         h = DEFAULT_THICKNESS_NM if h is None else h
@@ -407,7 +413,10 @@ def table_request(ink, particles="molecular", *, thickness_nm=None, accuracy: st
             # the cap of --target-se changes nothing without it: one table
             warnings.warn(f"{OPTION.get('max_realizations')} is the cap of {OPTION.get('target_se')}: "
                           "ignored without it", stacklevel=2)
-            fields["max_realizations"] = preset.max_realizations
+        if fields["target_se"] is None or "max_realizations" not in wave_overrides:
+            # a cap not given follows --realizations (the preset's, unless that asks for more)
+            fields["max_realizations"] = max(preset.max_realizations, fields["realizations"]) \
+                if isinstance(fields["realizations"], (int, np.integer)) else preset.max_realizations
         wave = WaveSettings(**fields)
     else:                   # the preset and settings of the wave solver mean nothing for a homogeneous layer
         ignored = (["accuracy"] if accuracy != "default" else []) + sorted(set(wave_overrides) - {"tier"})
@@ -423,7 +432,7 @@ def table_request(ink, particles="molecular", *, thickness_nm=None, accuracy: st
     validate(req)
     thin = thin_layers_warning([layer.thickness_nm for layer in layers])
     if thin:                                      # valid, but most likely µm typed as nm
-        warnings.warn(thin, stacklevel=2)
+        warnings.warn(thin, ThinLayerWarning, stacklevel=2)
     # valid, but the default sampling may miss a film's fringes (an explicit grid is the caller's
     # choice; particle inks' steps are their accuracy preset's, measured against fine)
     aliased = (fringe_aliasing_warning(req.thickness_nm, grids.wavelengths_nm, req.materials.binder_index)

@@ -22,6 +22,10 @@ class RequestError(ValueError):
     """A table request that cannot be computed as asked; the message names the option."""
 
 
+class ThinLayerWarning(UserWarning):
+    """A layer thinner than THIN_LAYER_NM: valid, but most likely µm typed as nm."""
+
+
 def parsed_option(name: str, given, parse, part=None):
     """parse(part) (part: `given` itself by default) for the request option `name`, a grammar
     error told with the option and what was given (`--ink 'R-5': negative concentration …`)."""
@@ -71,13 +75,14 @@ def ignored_on_molecular(what: str, options) -> str:
     return f"{what} is molecular (an exact thin film): {', '.join(options)} ignored"
 
 
-def thin_layers_warning(thicknesses_nm) -> str | None:
-    """A warning for layers thinner than THIN_LAYER_NM (µm typed as nm?), or None."""
+def thin_layers_warning(thicknesses_nm, option: str = OPTION["thickness_nm"]) -> str | None:
+    """A warning for layers thinner than THIN_LAYER_NM (µm typed as nm?), or None; `option`
+    names where the thicknesses were given (`ink-tables design` says --thickness-range)."""
     thin = [t for t in thicknesses_nm if t < THIN_LAYER_NM]
     if not thin:
         return None
-    return (f"{OPTION['thickness_nm']} {', '.join(f'{t:g}' for t in thin)}: a layer thinner than "
-            f"{THIN_LAYER_NM:g} nm, while a printed ink layer is ~1000 nm (1 µm): the option takes nm")
+    return (f"{option} {', '.join(f'{t:g}' for t in thin)}: a layer thinner than "
+            f"{THIN_LAYER_NM:g} nm, while a printed ink layer is ~1000 nm (1 µm): thicknesses are in nm")
 
 
 def fringe_aliasing_warning(thickness_nm: float, wavelengths_nm, binder_index: float) -> str | None:
