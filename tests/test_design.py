@@ -208,6 +208,24 @@ def test_a_thickness_range_in_micrometres_is_warned_of_once_before_any_work(caps
     assert not caught, [str(w.message) for w in caught]
 
 
+def test_a_particle_design_says_what_it_will_build_before_any_work(capsys, monkeypatch):
+    """--particles: one line up front with the preflight's estimate of a table and how many
+    tables the design reads or builds at most (a particle design otherwise runs silently)."""
+    import solver.design as design
+    from solver.design.optimise import PARTICLE_TABLES
+
+    def no_work(*a, **k):
+        raise AssertionError("work started")
+
+    monkeypatch.setattr(design, "design_ink", no_work)
+    with pytest.raises(AssertionError, match="work started"):
+        main(["design", "--aim", "50,-30,-40", "--pigments", "C", "--particles", "sphere:100"])
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1, err
+    assert err.startswith(f"--particles sphere:100: up to {PARTICLE_TABLES} particle tables per ink"), err
+    assert "each estimated table" in err and "wave solves, ≈ " in err and "worker" in err, err
+
+
 def test_cli_one_value_fixes_either_range_and_is_named_as_the_limit(capsys):
     """--load-range 5 fixes the loads as --thickness-range 1000 fixes the thickness (the help
     says so for both); an aim out of reach names them, with their options, as its limits."""

@@ -100,6 +100,7 @@ def run(args) -> int:
         if any(a.kind == "overprint" for a in aims):
             raise DesignError("--particles: overprints are stacks of molecular layers only (as the ink BSDF "
                               "prints them); design particle solids one at a time")
+        print(particle_tables_line(template, args.local_field), file=sys.stderr, flush=True)
     from solver.design import FilmColour, design_ink, design_process_set
     from solver.table.cache import TableCache
 
@@ -129,6 +130,23 @@ def run(args) -> int:
         output.write_text(json.dumps(document, indent=2) + "\n")
         print(f"wrote {output}")
     return 0
+
+
+def particle_tables_line(template: InkTemplate, local_field) -> str:
+    """What a particle design will build, said before it starts: the preflight estimate of one
+    table (the starting recipe's; solver/table/preflight.py) and the most tables an ink's design
+    reads or builds (solver.design.optimise.PARTICLE_TABLES); tables in the cache are only read."""
+    from solver.design.optimise import PARTICLE_TABLES
+    from solver.table.executor import default_workers
+    from solver.table.preflight import estimate
+    from solver.table.request import table_request
+
+    recipe = template.recipe(template.start())
+    workers = default_workers()                       # as FilmColour builds them (BuildOptions' default)
+    est = estimate(table_request(recipe.ink, recipe.particles, thickness_nm=recipe.thickness_nm,
+                                 local_field=local_field), workers)
+    return (f"--particles {template.particles}: up to {PARTICLE_TABLES} particle tables per ink (those in the "
+            f"cache are read), each estimated {est.describe()} on {workers} worker{'s' if workers != 1 else ''}")
 
 
 def command_line(args) -> str:
