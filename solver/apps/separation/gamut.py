@@ -29,8 +29,10 @@ of a hue is the (L*, C*) of its largest chroma.
 **The mapping** (`map_to_gamut`, vectorised):
 
 1. Lightness (black-point compensation): L' = L_black + L*·(L_white − L_black)/100, where
-   L_white is the print's white (100 relative to the paper) and L_black the darkest neutral the
-   print reaches; a*, b* unchanged.
+   L_white is the print's white (100 relative to the paper) and L_black the darkest grey (step
+   3) the print reaches, whatever its hue (with chromatic inks alone it has no neutral below the
+   paper: the darkest neutral compressed the image into L* ≈ 100 and Y30 printed nothing); a*,
+   b* unchanged.
 2. Chroma toward the cusp: in the hue slice of the colour, along the ray from the focal point
    F = (C* 0, L_F) through the colour, L_F = L*_cusp(h) + w·(L' − L*_cusp(h)) between the
    cusp's lightness (w = 0: all rays to the cusp, the most chroma) and the colour's own
@@ -41,6 +43,13 @@ of a hue is the (L*, C*) of its largest chroma.
    place and beyond it d ↦ kD + (D − kD)·s·t/(1 + (s − 1)·t), t = (d − kD)/(S − kD),
    s = (S − kD)/(D − kD) — slope 1 at the knee (no kink), the sRGB boundary lands on the
    print's boundary, monotone along the ray. The perceived hue (Oklab's) is untouched.
+
+3. The print's greys (`GamutBoundary.spine_ab`, `greyed`): where the print has no neutral of
+   the mapped lightness (chromatic inks alone; the darkest shadows of some sets), a*, b* are
+   offset by those of its least chromatic colour of that L*, less `NEUTRAL_CHROMA` of chroma
+   (continuous where neutrals begin), so that the lightness is printed with what the inks have:
+   one chromatic ink renders the image as a one-colour print, the most ink where it is darkest.
+   Where the print has neutrals (the process inks above their darkest neutral) the offset is 0.
 
 Every step is continuous in the colour, so smooth gradients stay smooth (no notch where
 nearest-colour clipping would fold a ramp onto the boundary) and ramps that rise in L* stay
@@ -68,6 +77,8 @@ BISECTIONS = 20
 HUE_SMOOTHING_BINS = 0.75      # σ of the hue smoothing of C_max (slices); the cusp's L* twice that
 REFINE_STEP_L = 3.0             # L* step of the boundary's check against the print (`refined`)
 NEUTRAL_CHROMA = 3.0            # C* below which a sample counts as neutral (the print's black)
+GREY_WINDOW_L = 0.1             # L* either side of a level where its least chromatic sample is sought
+                                # (one ink's tints change by up to 13 C* per L*: Y30)
 MAX_TRIANGLE_HUE_SPAN = 30.0    # degrees: a face's triangle spanning more straddles the neutral axis
 SECTION_MIN_CHROMA = 0.5        # C* above which a face's hue counts as defined (its slice sections)
 
@@ -240,6 +251,58 @@ def _hull_chroma(C, L, levels, black_l: float, white_l: float) -> np.ndarray:
     return np.max(np.where(cross, c, -1.0), axis=1)
 
 
+def _grey_at(spine, L) -> np.ndarray:
+    """(a*, b*) [N, 2] of the print's grey (`spine` [LIGHTNESS_NODES, 2], None: 0) at L* [N],
+    linear between levels."""
+    L = np.asarray(L, dtype=np.float64).reshape(-1)
+    if spine is None:
+        return np.zeros((L.size, 2))
+    levels = np.linspace(0.0, 100.0, LIGHTNESS_NODES)
+    return np.stack([np.interp(L, levels, spine[:, i]) for i in range(2)], -1)
+
+
+def _surrounds_neutral(ab) -> bool:
+    """Whether the neutral (a* = b* = 0) lies in the convex hull of points (a*, b*) [M, 2]: no
+    gap of half a turn or more between their hues."""
+    hue = np.sort(np.arctan2(ab[:, 1], ab[:, 0]))
+    if hue.size < 3:
+        return False
+    gaps = np.diff(np.r_[hue, hue[0] + 2 * np.pi])
+    return bool(gaps.max() < np.pi)
+
+
+def _grey_spine(lab, levels, white_l: float) -> np.ndarray:
+    """(a*, b*) [NL, 2] of the print's grey at each of `levels`, from printed samples CIELAB
+    [M, 3]: 0 where the samples within two level spacings of that L* surround the neutral (the
+    print has one), else the least chromatic sample within GREY_WINDOW_L of it, its chroma less
+    `NEUTRAL_CHROMA` (continuous where neutrals begin); linear across levels no sample reaches;
+    0 beyond the print's black…white."""
+    L, C, ab = lab[:, 0], np.hypot(lab[:, 1], lab[:, 2]), lab[:, 1:]
+    black_l = float(np.min(L))
+    order = np.argsort(L)
+    Ls, Cs, abs_ = L[order], C[order], ab[order]
+    half = levels[1] - levels[0]
+    lo = np.searchsorted(Ls, levels - GREY_WINDOW_L, side="left")
+    hi = np.searchsorted(Ls, levels + GREY_WINDOW_L, side="right")
+    out = np.zeros((levels.size, 2))
+    known = np.zeros(levels.size, dtype=bool)
+    wide_lo = np.searchsorted(Ls, levels - 2 * half, side="left")
+    wide_hi = np.searchsorted(Ls, levels + 2 * half, side="right")
+    for j in np.flatnonzero((hi > lo) & (levels >= black_l - half) & (levels <= white_l + half)):
+        known[j] = True
+        if _surrounds_neutral(abs_[wide_lo[j]:wide_hi[j]]):
+            continue
+        i = lo[j] + int(np.argmin(Cs[lo[j]:hi[j]]))
+        c = Cs[i]
+        out[j] = abs_[i] * (max(c - NEUTRAL_CHROMA, 0.0) / c if c > 0.0 else 0.0)
+    inside = (levels >= black_l - half) & (levels <= white_l + half)
+    if known.any():
+        for i in range(2):
+            out[inside & ~known, i] = np.interp(levels[inside & ~known], levels[known], out[known, i])
+    out[~inside] = 0.0
+    return out
+
+
 @dataclass(frozen=True)
 class GamutBoundary:
     """The print's gamut as C_max(h, L*) per hue slice (module docstring)."""
@@ -248,9 +311,10 @@ class GamutBoundary:
     lightness: np.ndarray          # [NL] levels
     cmax: np.ndarray               # [H, NL]; −1 where the slice has no colour of that L*
     white_l: float                 # L* of the print's white (bare paper)
-    black_l: float                 # L* of the darkest near-neutral (C* ≤ NEUTRAL_CHROMA) colour
+    black_l: float                 # L* of the darkest grey (`spine_ab`), whatever its hue
     cusp_l: np.ndarray             # [H]
     cusp_c: np.ndarray             # [H]
+    spine_ab: np.ndarray | None = None  # [NL, 2] (a*, b*) of the print's grey per L* (`greyed`); None: 0
 
     @classmethod
     def build(cls, model, tac: float = float("inf")) -> "GamutBoundary":
@@ -260,24 +324,46 @@ class GamutBoundary:
         ok = ~np.isnan(faces[..., 0])
         lab = np.full(faces.shape[:-1] + (3,), np.nan)
         lab[ok] = model.lab(faces[ok])
+        samples = np.r_[model.lab(coverage_samples(model.n_inks, tac)), lab[ok]]
+        white_l = float(model.lab(np.zeros(model.n_inks))[0])
+        spine = _grey_spine(samples, np.linspace(0.0, 100.0, LIGHTNESS_NODES), white_l)
+        # the slices are taken about the print's greys (step 3): a*, b* less the grey's of their L*
+        ungreyed = GamutBoundary.ungreyed_by(spine)
         Lf, Cf, hf = (np.full(ok.shape, np.nan) for _ in range(3))
-        Lf[ok], Cf[ok], hf[ok] = to_lch(lab[ok])
-        L, C, h = to_lch(model.lab(coverage_samples(model.n_inks, tac)))
-        L, C, h = np.r_[L, Lf[ok]], np.r_[C, Cf[ok]], np.r_[h, hf[ok]]
-        return cls.from_samples(L, C, h, float(model.lab(np.zeros(model.n_inks))[0]), faces=(Lf, Cf, hf))
+        Lf[ok], Cf[ok], hf[ok] = to_lch(ungreyed(lab[ok]))
+        L, C, h = to_lch(ungreyed(samples))
+        # the print's black: its darkest grey — a sample within NEUTRAL_CHROMA of the least
+        # chromatic colour of its L* (the neutral where the print has one; where it has none, the
+        # grey is that colour less NEUTRAL_CHROMA of chroma: `_grey_spine`)
+        chromatic = np.hypot(*_grey_at(spine, L).T) > 0.0
+        grey = C <= NEUTRAL_CHROMA * np.where(chromatic, 2.0, 1.0)
+        black_l = float(np.min(L[grey])) if grey.any() else float(np.min(L))
+        return cls.from_samples(L, C, h, white_l, faces=(Lf, Cf, hf), spine=spine, black_l=black_l)
+
+    @staticmethod
+    def ungreyed_by(spine):
+        """CIELAB [N, 3] → the same less the grey (`spine_ab` [NL, 2], None: 0) of their L*."""
+        def ungreyed(lab):
+            lab = np.array(lab, dtype=np.float64).reshape(-1, 3)
+            lab[:, 1:] -= _grey_at(spine, lab[:, 0])
+            return lab
+        return ungreyed
 
     @classmethod
-    def from_samples(cls, L, C, h, white_l: float, faces=None) -> "GamutBoundary":
+    def from_samples(cls, L, C, h, white_l: float, faces=None, spine=None, black_l=None) -> "GamutBoundary":
         """The boundary of samples (L*, C*, hue) of the gamut; `faces`: (L*, C*, hue) [F, n, n] on
         the grids of `face_grids`, whose sections by each slice bound its hull where the gamut is
-        concave (module docstring)."""
+        concave (module docstring); `spine`: the print's greys (`spine_ab`), the samples taken
+        about them (None: the print has a neutral of every L* it reaches); `black_l`: the print's
+        black (None: its darkest near-neutral sample, else its darkest)."""
         width = 360.0 / HUE_BINS
         centres = (np.arange(HUE_BINS) + 0.5) * width
         levels = np.linspace(0.0, 100.0, LIGHTNESS_NODES)
         cmax = np.empty((HUE_BINS, LIGHTNESS_NODES))
-        # the print's black: its darkest near-neutral colour (the darkest colour if none is)
-        neutral = C <= NEUTRAL_CHROMA
-        black_l = min(float(np.min(L[neutral])) if neutral.any() else float(np.min(L)), float(white_l))
+        if black_l is None:
+            neutral = C <= NEUTRAL_CHROMA
+            black_l = float(np.min(L[neutral])) if neutral.any() else float(np.min(L))
+        black_l = min(float(black_l), float(white_l))
         order = np.argsort(h)
         hs, Ls, Cs = h[order], L[order], C[order]
         hs3 = np.concatenate([hs - 360.0, hs, hs + 360.0])          # windows that wrap around 0°
@@ -308,7 +394,7 @@ class GamutBoundary:
         best = np.argmax(cmax, axis=1)
         return cls(centres, levels, cmax, float(white_l), black_l,
                    _smooth_hue(levels[best][:, None], 2 * HUE_SMOOTHING_BINS)[:, 0],
-                   cmax[np.arange(HUE_BINS), best])
+                   cmax[np.arange(HUE_BINS), best], spine)
 
     def refined(self, printed_of) -> "GamutBoundary":
         """The boundary checked against the print: targets on it (every slice, every
@@ -324,7 +410,8 @@ class GamutBoundary:
         asked = C > 1.0
         ratio = np.ones_like(C)
         if asked.any():
-            Lp, Cp, hp = to_lch(printed_of(from_lch(LL[asked], C[asked], hh[asked])))
+            ungreyed = GamutBoundary.ungreyed_by(self.spine_ab)
+            Lp, Cp, hp = to_lch(ungreyed(printed_of(self.greyed(from_lch(LL[asked], C[asked], hh[asked])))))
             reached = Cp * np.cos(np.radians(hp - hh[asked]))
             ratio[asked] = np.clip(reached / C[asked], 0.0, 1.0)
         ratio = _smooth_hue(ratio, HUE_SMOOTHING_BINS)
@@ -333,7 +420,7 @@ class GamutBoundary:
         best = np.argmax(cmax, axis=1)
         return GamutBoundary(self.hue_deg, self.lightness, cmax, self.white_l, self.black_l,
                              _smooth_hue(self.lightness[best][:, None], 2 * HUE_SMOOTHING_BINS)[:, 0],
-                             cmax[np.arange(HUE_BINS), best])
+                             cmax[np.arange(HUE_BINS), best], self.spine_ab)
 
     def with_black(self, black_l: float) -> "GamutBoundary":
         """The boundary with its black raised to `black_l` (what the separation reaches): the
@@ -375,12 +462,24 @@ class GamutBoundary:
         return np.where((np.asarray(L) < self.black_l) | (np.asarray(L) > self.white_l), -1.0, np.maximum(out, 0.0))
 
     def contains(self, lab) -> np.ndarray:
-        L, C, h = to_lch(lab)
+        """Whether CIELAB colours [N, 3] (as printed: with the print's grey) lie in the gamut."""
+        L, C, h = to_lch(GamutBoundary.ungreyed_by(self.spine_ab)(lab))
         return C <= self.chroma_max(h, L) + 1e-9
 
     def lightness_map(self, L) -> np.ndarray:
         """Black-point compensation: L* 0…100 → black_l…white_l (linear)."""
         return self.black_l + np.asarray(L, dtype=np.float64) * (self.white_l - self.black_l) / 100.0
+
+    def grey_ab(self, L) -> np.ndarray:
+        """(a*, b*) [N, 2] of the print's grey at lightnesses L* (module docstring, step 3; linear
+        between levels, 0 where the print has a neutral)."""
+        return _grey_at(self.spine_ab, L)
+
+    def greyed(self, lab) -> np.ndarray:
+        """CIELAB [N, 3] with a*, b* offset by the print's grey of their L* (step 3)."""
+        lab = np.array(lab, dtype=np.float64).reshape(-1, 3)
+        lab[:, 1:] += self.grey_ab(lab[:, 0])
+        return lab
 
     def lightness_unmap(self, L) -> np.ndarray:
         return (np.asarray(L, dtype=np.float64) - self.black_l) * 100.0 / max(self.white_l - self.black_l, 1e-9)
@@ -449,4 +548,4 @@ def map_to_gamut(lab, boundary: GamutBoundary, settings: GamutSettings = GamutSe
     t = (d - k) / np.maximum(S - k, 1e-12)
     mapped = np.minimum(k + (D - k) * s_ratio * t / (1.0 + (s_ratio - 1.0) * t), D)
     d_new = np.where(squeeze, mapped, d)
-    return from_lch(F + d_new * ul, d_new * uc, h)
+    return boundary.greyed(from_lch(F + d_new * ul, d_new * uc, h))

@@ -34,7 +34,10 @@ DEFAULT_MAPPING = "perceptual"
 DEFAULT_LUT_NODES = 33
 MAPPED_DE = 0.5                     # ΔE76 a colour must move to count as gamut-mapped
 REFINE_ITERATIONS = 15             # LM steps (one start) of the boundary's check against the print
-BLACK_MARGIN_L = 0.2                # L* above the darkest neutral reached where the mapping puts black
+BLACK_MARGIN_L = 0.2                # L* above the darkest grey reached where the mapping puts black
+BLACK_CHECKS = 4                    # separations of the black's grey while it prints lighter (`build`)
+BLACK_GREY_TOLERANCE_L = 0.5        # L* the raised black's grey may print above it (one ink's grey lies
+                                    # NEUTRAL_CHROMA inside its tints: Y30's prints 0.23 lighter)
 
 
 @dataclass(frozen=True)
@@ -64,10 +67,18 @@ class Separator:
         quick = replace(solver, starts=1, near_miss_starts=0, max_iterations=REFINE_ITERATIONS)
         printed_of = lambda lab: separate_lab(model, lab, quick, grid, objective=objective).printed_lab  # noqa: E731
         boundary = hull.refined(printed_of)
-        # the black point is the darkest neutral the separation reaches (under the TAC, with the
-        # black rule's starts), a little above: neutrals below it would all print alike
-        reached = float(printed_of(np.array([[boundary.black_l, 0.0, 0.0]]))[0, 0])
-        boundary = boundary.with_black(reached + BLACK_MARGIN_L)
+        # the black point is the darkest grey (`GamutBoundary.greyed`: the neutral, or the least
+        # chromatic colour where the print has none) the separation reaches (under the TAC, with
+        # the black rule's starts), a little above: greys below it would all print alike. The grey
+        # of the raised black may print lighter still (the process inks' darkest colours are
+        # chromatic, their darkest neutral lighter): raised until its own grey prints at it
+        black_l, tolerance = boundary.black_l, 0.0
+        for _ in range(BLACK_CHECKS):
+            reached = float(printed_of(boundary.greyed([[black_l, 0.0, 0.0]]))[0, 0])
+            if reached <= black_l + tolerance:
+                break
+            black_l, tolerance = reached + BLACK_MARGIN_L, BLACK_GREY_TOLERANCE_L
+        boundary = boundary.with_black(black_l)
         objective = replace(objective, boundary=boundary)
         return cls(model, objective, boundary, grid, mapping, gamut, solver, lut_nodes)
 
@@ -80,11 +91,12 @@ class Separator:
         return replace(self, objective=replace(self.objective, rule=rule))
 
     def lightness_mapped(self, source_lab) -> np.ndarray:
-        """Source colours after the black-point compensation alone (perceptual), or as they are
-        (clip): what a colour inside the gamut prints as."""
+        """Source colours after the black-point compensation and the print's grey alone
+        (perceptual), or as they are (clip): what a colour inside the gamut prints as."""
         lab = np.array(source_lab, dtype=np.float64).reshape(-1, 3)
         if self.mapping == "perceptual":
             lab[:, 0] = self.boundary.lightness_map(lab[:, 0])
+            lab = self.boundary.greyed(lab)
         return lab
 
     def targets(self, source_lab) -> np.ndarray:
