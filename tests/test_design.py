@@ -186,12 +186,9 @@ def test_cli_prints_the_recipe_and_writes_the_json(tmp_path, capsys):
     assert float(delta_e2000(FilmColour(paper=0.8762).lab(recipe), np.array(entry["lab"]))) < 0.01
 
 
-def test_a_thickness_range_in_micrometres_is_warned_of_once_before_any_work(capsys, monkeypatch):
-    """--thickness-range 0.5,2 (µm typed as nm): the thin-layer rule of the tables
-    (request_checks.thin_layers_warning), said once for --thickness-range before the design
-    starts, and not again for each film the design computes."""
-    import warnings
-
+def _stderr_before_any_work(capsys, monkeypatch, *options) -> str:
+    """What `ink-tables design --aim 50,-30,-40 --pigments C OPTIONS` says on stderr before its
+    design would start (the design itself replaced by a stop)."""
     import solver.design as design
 
     def no_work(*a, **k):
@@ -199,8 +196,17 @@ def test_a_thickness_range_in_micrometres_is_warned_of_once_before_any_work(caps
 
     monkeypatch.setattr(design, "design_ink", no_work)
     with pytest.raises(AssertionError, match="work started"):
-        main(["design", "--aim", "50,-30,-40", "--pigments", "C", "--thickness-range", "0.5,2"])
-    err = capsys.readouterr().err
+        main(["design", "--aim", "50,-30,-40", "--pigments", "C", *options])
+    return capsys.readouterr().err
+
+
+def test_a_thickness_range_in_micrometres_is_warned_of_once_before_any_work(capsys, monkeypatch):
+    """--thickness-range 0.5,2 (µm typed as nm): the thin-layer rule of the tables
+    (request_checks.thin_layers_warning), said once for --thickness-range before the design
+    starts, and not again for each film the design computes."""
+    import warnings
+
+    err = _stderr_before_any_work(capsys, monkeypatch, "--thickness-range", "0.5,2")
     assert err.startswith("warning: --thickness-range 0.5, 2: a layer thinner than 50 nm") and err.count("\n") == 1, err
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
@@ -211,16 +217,9 @@ def test_a_thickness_range_in_micrometres_is_warned_of_once_before_any_work(caps
 def test_a_particle_design_says_what_it_will_build_before_any_work(capsys, monkeypatch):
     """--particles: one line up front with the preflight's estimate of a table and how many
     tables the design reads or builds at most (a particle design otherwise runs silently)."""
-    import solver.design as design
     from solver.design.optimise import PARTICLE_TABLES
 
-    def no_work(*a, **k):
-        raise AssertionError("work started")
-
-    monkeypatch.setattr(design, "design_ink", no_work)
-    with pytest.raises(AssertionError, match="work started"):
-        main(["design", "--aim", "50,-30,-40", "--pigments", "C", "--particles", "sphere:100"])
-    err = capsys.readouterr().err
+    err = _stderr_before_any_work(capsys, monkeypatch, "--particles", "sphere:100")
     assert err.count("\n") == 1, err
     assert err.startswith(f"--particles sphere:100: up to {PARTICLE_TABLES} particle tables per ink"), err
     assert "each estimated table" in err and "wave solves, ≈ " in err and "worker" in err, err
