@@ -50,7 +50,7 @@ class FilmColour:
         particles = LAYER_SEPARATOR.join(r.particles for r in recipes)
         thickness = [r.thickness_nm for r in recipes]
         inks = recipes[0].ink if len(recipes) == 1 else label
-        with warnings.catch_warnings():       # a thin range is told once, for --thickness-range (cli/design.py)
+        with warnings.catch_warnings():       # a thin range is told once, for --thickness-range (recipe.InkTemplate)
             warnings.simplefilter("ignore", ThinLayerWarning)
             request = table_request(inks, particles, thickness_nm=thickness if len(recipes) > 1 else thickness[0],
                                     local_field=self.local_field)

@@ -6,12 +6,13 @@ Loads are volume fractions inside (percent at the CLI), thicknesses in nm.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..inks import Ink, InkSpecError, parse_ink
-from ..table.request import DEFAULT_THICKNESS_NM
+from ..table.request import DEFAULT_THICKNESS_NM, ThinLayerWarning, thin_layers_warning
 
 #: a pigment load's range (volume fraction): the paper's heaviest inks carry 50 %
 LOAD_RANGE = (0.0, 0.5)
@@ -79,6 +80,9 @@ class InkTemplate:
         if lo * len(self.pigments) > 1.0:
             raise DesignError(f"--load-range: the pigments' least loads ({len(self.pigments)} × {100 * lo:g} %) "
                               "already exceed 100 %: lower MIN")
+        thin = thin_layers_warning(sorted({tlo, thi}), "--thickness-range")
+        if thin:       # valid, but most likely µm typed as nm: said here once, not for each film (colour.py)
+            warnings.warn(thin, ThinLayerWarning, stacklevel=3)
 
     @classmethod
     def of(cls, pigments: str, **kw) -> "InkTemplate":

@@ -120,20 +120,19 @@ def _layered_gmres(op: LayerOperator, b: np.ndarray, ws: Workspace, tol: float, 
     bp = layered.right_hand_side(op, lay, b)
     bnorm = float(np.linalg.norm(b.ravel())) or 1.0
     xh = None if x0 is None else layered.to_fourier(op, lay, x0)
-    apps, history, inner_tol, rel, r, x = 0, [], tol, math.inf, None, x0
+    apps, history, inner_tol, rel, r = 0, [], tol, math.inf, None
     for _ in range(4):
         out = gmres(lambda v, o: layered.scatter(op, lay, v, ws, o), bp, tol=inner_tol,
                     maxiter=maxiter - apps, restart=restart, backend=op.fft, x0=xh, callback=callback)
         apps += out.applications
         history.extend(out.residuals)
         xh = out.x
-        x = layered.from_fourier(op, xh)
         r = layered.unpreconditioned(op, lay, out.residual_vector)
         rel = float(np.linalg.norm(r.ravel())) / bnorm
         if rel <= tol or apps >= maxiter or not out.converged:
             break
         inner_tol = out.true_residual * 0.5 * tol / rel        # the ratio seen, with a margin
-    return KrylovOutcome(x, tuple(history), apps, rel <= tol, rel, "gmres", r)
+    return KrylovOutcome(layered.from_fourier(op, xh), tuple(history), apps, rel <= tol, rel, "gmres", r)
 
 
 def _run(op: LayerOperator, b: np.ndarray, method: str, tol: float, maxiter: int,

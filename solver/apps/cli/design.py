@@ -14,12 +14,10 @@ import json
 import shlex
 import sys
 import time
-import warnings
 
 from solver.colour.aims import AIM_GEOMETRY, known_aims_text, parse_aim
 from solver.design.recipe import LOAD_RANGE, PROCESS_PIGMENTS, THICKNESS_RANGE_NM, DesignError, InkTemplate
 from solver.paper import PAPER_ALBEDO, check_paper_albedo
-from solver.table.request_checks import ThinLayerWarning, thin_layers_warning
 from .build import add_cache_argument, cache_from_args
 from .parsing import DefaultsFormatter, add_measurement_arguments, measurement_from_args, writable_output
 
@@ -77,9 +75,6 @@ def run(args) -> int:
     measurement = measurement_from_args(args, AIM_GEOMETRY)
     load_range = tuple(v / 100.0 for v in _pair(args.load_range, "--load-range", "percent"))
     thickness_range = _pair(args.thickness_range, "--thickness-range", "nm")
-    thin = thin_layers_warning(sorted(set(thickness_range)), "--thickness-range")
-    if thin:                                    # valid, but most likely µm typed as nm
-        warnings.warn(thin, ThinLayerWarning, stacklevel=2)
     if args.tolerance is not None and not args.tolerance > 0:
         raise DesignError(f"--tolerance {args.tolerance:g}: give a ΔE2000 > 0")
     if args.paper is not None:
