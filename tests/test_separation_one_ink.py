@@ -1,8 +1,9 @@
-"""A print with chromatic inks alone (no neutral below the paper): the perceptual mapping's
-black-point compensation takes the print's darkest colour, whatever its hue, so one ink renders
-an image as a one-colour print — the most ink where the image is darkest, the image's black at
-the solid's L* (docs/printing.md, "Gamut mapping"). Before, the black was the darkest *neutral*,
-the paper itself: the image was compressed into L* 99.7–100 and Y30 printed nothing."""
+"""A print with one chromatic ink (no neutral below the paper) renders an image as a one-colour
+print — the most ink where the image is darkest, the image's black at the solid's L* (a monotone:
+docs/printing.md, "One ink: a monotone"; tests/test_monotone.py checks its lightness). Before the
+black-point compensation took the print's darkest colour, whatever its hue, the black was the
+darkest *neutral*, the paper itself: the image was compressed into L* 99.7–100 and Y30 printed
+nothing."""
 
 import numpy as np
 import pytest

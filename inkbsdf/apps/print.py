@@ -89,12 +89,13 @@ def build_parser() -> argparse.ArgumentParser:
                    help="which ink is the black (an ink of --inks, or none); default: the ink whose main pigment is K, else the "
                         "darkest neutral one")
     p.add_argument("--gamut", default=MAPPINGS[0], choices=MAPPINGS,
-                   help="perceptual: hue-preserving compression toward the cusp; clip: the closest printable colour")
+                   help="perceptual: hue-preserving compression toward the cusp (one ink: a monotone of the "
+                        "image's lightness in it); clip: the closest printable colour")
     p.add_argument("--gamut-knee", type=float, default=GamutSettings().knee,
                    help="share of the gamut left untouched by the perceptual mapping, in [0, 1)")
     p.add_argument("--lut", type=int, default=DEFAULT_LUT_NODES,
                    help="nodes per sRGB axis of the separation table used for images with more distinct "
-                        "colours than its nodes (0: separate every colour)")
+                        "colours than its nodes (0: separate every colour; a one-ink monotone never needs one)")
     p.add_argument("--characterisation", default=None, metavar="OUT.txt",
                    help="also write an IT8.7/4-style chart and its predicted CIELAB (45:0, D50) as CGATS text")
     p.add_argument("--coverage-model", default=AUTO_MODEL, choices=(AUTO_MODEL,) + COVERAGE_MODELS,
@@ -259,6 +260,7 @@ def main(argv=None) -> int:
 
 def _main(argv) -> int:
     from solver.apps.separation import DotsError, print_image, printed_inks, read_image, write_textures
+    from solver.apps.separation.monotone import MonotoneError
 
     args = build_parser().parse_args(argv)
     configure_logging(args.verbose, builds=True)
@@ -291,6 +293,8 @@ def _main(argv) -> int:
     bar = ColourProgress(args.quiet)
     try:
         result = print_image(rgb8, settings, printed, progress=bar, grid=grid)
+    except MonotoneError as exc:
+        raise UsageError(f"--inks: {exc}") from None
     finally:
         bar.close()
     for line in result.separation.report.lines():

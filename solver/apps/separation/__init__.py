@@ -8,9 +8,10 @@ NumPy; Pillow for image files): docs/printing.md.
 
 Stages, one per module: `printset` (ink lists → tables of inks and overprints, through the
 cache), `printmodel` (coverages → CIELAB under the press's measurement, 45:0 D50, with
-`solver.printing`), `gamut` (the print's gamut, perceptual gamut mapping), `black` (black
-generation, TAC), `solve` (start grid + projected Levenberg–Marquardt), `separate` (an image's
-distinct colours or a 3-D table over sRGB, report), `characterisation` (a CGATS chart),
+`solver.printing`), `gamut` (the print's gamut, perceptual gamut mapping), `monotone` (one
+ink: the image's lightness in it), `black` (black generation, TAC), `solve` (start grid +
+projected Levenberg–Marquardt), `separate` (an image's distinct colours or a 3-D table over
+sRGB, report), `characterisation` (a CGATS chart),
 `screens` (AM and FM thresholds), `halftone` (texel grid, dots), `image` (files), `job` (one
 print's settings).
 """
@@ -24,11 +25,12 @@ from .printmodel import PrintColourModel
 from .printset import InkListError, parse_ink_list, printed_inks
 from .screens import am_threshold, blue_noise_mask, fm_threshold, screen_angles
 from .gamut import GamutBoundary, GamutSettings, map_to_gamut
+from .monotone import MonotoneError, MonotoneRamp
 from .separate import MAPPINGS, ImageSeparation, SeparationLUT, SeparationReport, Separator, separate_image
 from .solve import CoverageGrid, Separation, SolverSettings, separate_lab
 
 __all__ = ["AUTO_MODEL", "BLACK_MODES", "BlackGeneration", "BlackGenerationError", "GamutBoundary", "GamutSettings", "InkingObjective",
-           "MAPPINGS", "SeparationLUT", "Separator", "black_index", "map_to_gamut", "INTENTS", "CoverageGrid", "Dots", "DotsError", "ImageError", "ImageSeparation",
+           "MAPPINGS", "MonotoneError", "MonotoneRamp", "SeparationLUT", "Separator", "black_index", "map_to_gamut", "INTENTS", "CoverageGrid", "Dots", "DotsError", "ImageError", "ImageSeparation",
            "ImageWarning", "InkListError", "LoadedImage", "read_image", "PrintColourModel", "PrintSettings", "PrintedImage", "Separation",
            "SeparationReport", "SolverSettings", "TexelGrid", "am_threshold", "blue_noise_mask",
            "delta_e76", "delta_e2000", "fm_threshold", "halftone_ink", "lab_to_srgb8", "parse_dots",

@@ -47,8 +47,8 @@ of a hue is the (L*, C*) of its largest chroma.
 3. The print's greys (`GamutBoundary.spine_ab`, `greyed`): where the print has no neutral of
    the mapped lightness (chromatic inks alone; the darkest shadows of some sets), a*, b* are
    offset by those of its least chromatic colour of that L*, less `NEUTRAL_CHROMA` of chroma
-   (continuous where neutrals begin), so that the lightness is printed with what the inks have:
-   one chromatic ink renders the image as a one-colour print, the most ink where it is darkest.
+   (continuous where neutrals begin), so that the lightness is printed with what the inks have.
+   (One ink has no volume to map into: the separator prints a monotone instead, `monotone`.)
    Where the print has neutrals (the process inks above their darkest neutral) the offset is 0.
 
 Every step is continuous in the colour, so smooth gradients stay smooth (no notch where
@@ -113,6 +113,11 @@ def from_lch(L, C, h_deg, exact: bool = True) -> np.ndarray:
     """CIELAB of lightness L*, chroma C* and perceived hue h (the inverse of `to_lch`; exact=False:
     the hue table alone, ≈ 0.05°, for searches along a ray)."""
     return lab_from_lch(L, C, lab_hue(L, C, h_deg, exact))
+
+
+def compensate_lightness(L, black_l: float, white_l: float) -> np.ndarray:
+    """Black-point compensation (step 1): L* 0…100 → black_l…white_l, linear."""
+    return black_l + np.asarray(L, dtype=np.float64) * (white_l - black_l) / 100.0
 
 
 def _smooth_hue(table: np.ndarray, sigma_bins: float) -> np.ndarray:
@@ -468,7 +473,7 @@ class GamutBoundary:
 
     def lightness_map(self, L) -> np.ndarray:
         """Black-point compensation: L* 0…100 → black_l…white_l (linear)."""
-        return self.black_l + np.asarray(L, dtype=np.float64) * (self.white_l - self.black_l) / 100.0
+        return compensate_lightness(L, self.black_l, self.white_l)
 
     def grey_ab(self, L) -> np.ndarray:
         """(a*, b*) [N, 2] of the print's grey at lightnesses L* (module docstring, step 3; linear

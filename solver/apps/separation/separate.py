@@ -13,6 +13,10 @@ table instead: its nodes (sRGB code values on a regular grid) are separated exac
 colour is interpolated tetrahedrally between the four nodes of its tetrahedron (`lut`), the
 way an ICC B2A table is used; benchmarks/bench_separation.py measures the interpolation's
 error against the direct separation.
+
+One ink under the perceptual mapping prints a monotone (`monotone`): each colour's compensated
+L* as the coverage that prints it, exact and cheap, so every distinct colour is separated
+directly whatever `lut_nodes` (the table would only add its interpolation error).
 """
 
 from __future__ import annotations
@@ -26,6 +30,7 @@ from .black import BlackGeneration, InkingObjective
 from .colour_space import delta_e2000, srgb_to_lab
 from .gamut import GamutBoundary, GamutSettings, map_to_gamut
 from .image import unique_colours
+from .monotone import MonotoneRamp
 from .printmodel import PrintColourModel
 from .solve import CoverageGrid, SolverSettings, separate_lab
 
@@ -52,6 +57,7 @@ class Separator:
     gamut: GamutSettings = GamutSettings()
     solver: SolverSettings = SolverSettings()
     lut_nodes: int = DEFAULT_LUT_NODES
+    monotone: MonotoneRamp | None = None     # one ink, perceptual: the image's lightness in it
 
     @classmethod
     def build(cls, model: PrintColourModel, black: int | None = None, rule: BlackGeneration = BlackGeneration(),
@@ -64,6 +70,8 @@ class Separator:
         hull = GamutBoundary.build(model, rule.tac)
         objective = InkingObjective.build(model, black, rule, hull)
         grid = CoverageGrid.build(objective, solver.nodes(model.n_inks))
+        if model.n_inks == 1 and mapping == "perceptual":        # a curve, not a volume: no boundary
+            return cls(model, objective, hull, grid, mapping, gamut, solver, lut_nodes, MonotoneRamp.build(model))
         quick = replace(solver, starts=1, near_miss_starts=0, max_iterations=REFINE_ITERATIONS)
         printed_of = lambda lab: separate_lab(model, lab, quick, grid, objective=objective).printed_lab  # noqa: E731
         boundary = hull.refined(printed_of)
@@ -90,9 +98,19 @@ class Separator:
                                    self.lut_nodes)
         return replace(self, objective=replace(self.objective, rule=rule))
 
+    @property
+    def lightness_range(self) -> tuple[float, float] | None:
+        """(black, white) L* of the black-point compensation (None: clip, none)."""
+        if self.monotone is not None:
+            return self.monotone.solid_l, self.monotone.paper_l
+        return (self.boundary.black_l, self.boundary.white_l) if self.mapping == "perceptual" else None
+
     def lightness_mapped(self, source_lab) -> np.ndarray:
         """Source colours after the black-point compensation and the print's grey alone
-        (perceptual), or as they are (clip): what a colour inside the gamut prints as."""
+        (perceptual), or as they are (clip): what a colour inside the gamut prints as (a
+        monotone: the ink's colour of its compensated L*)."""
+        if self.monotone is not None:
+            return self.monotone.mapped(source_lab)
         lab = np.array(source_lab, dtype=np.float64).reshape(-1, 3)
         if self.mapping == "perceptual":
             lab[:, 0] = self.boundary.lightness_map(lab[:, 0])
@@ -100,7 +118,10 @@ class Separator:
         return lab
 
     def targets(self, source_lab) -> np.ndarray:
-        """The colours to print of source colours (CIELAB of sRGB): gamut-mapped or as they are."""
+        """The colours to print of source colours (CIELAB of sRGB): gamut-mapped, the monotone's, or
+        as they are."""
+        if self.monotone is not None:
+            return self.monotone.mapped(source_lab)
         if self.mapping == "clip":
             return np.asarray(source_lab, dtype=np.float64).reshape(-1, 3)
         return map_to_gamut(source_lab, self.boundary, self.gamut, self.model.measurement)
@@ -108,6 +129,11 @@ class Separator:
     def separate_srgb(self, encoded, progress=None):
         """(Separation of the mapped colours, source CIELAB) for encoded sRGB values [N, 3] in [0, 1]."""
         source = srgb_to_lab(np.asarray(encoded, dtype=np.float64).reshape(-1, 3), self.model.measurement)
+        if self.monotone is not None:
+            sep = self.monotone.separate(source, self.solver.gamut_de)
+            if progress is not None:
+                progress(source.shape[0])
+            return sep, source
         sep = separate_lab(self.model, self.targets(source), self.solver, self.grid, progress, self.objective)
         return sep, source
 
@@ -166,27 +192,40 @@ class SeparationReport:
     lightness_range: tuple | None        # (black, white) L* of the black-point compensation
     black: str
     seconds: float
+    monotone_ink: str | None = None      # one ink: the image's lightness printed in it (`monotone`)
 
     def lines(self) -> list[str]:
-        share = self.mapped_pixels / max(self.pixels, 1)
         how = (f"through a {self.lut_nodes}³ table" if self.lut_nodes else "directly")
         out = [f"separated {self.pixels:,} pixels ({self.unique_colours:,} distinct colours) {how} in "
                f"{self.seconds:.1f} s; {self.black}; mean ΔE2000 image → print {self.mean_de2000:.2f}"]
+        if self.monotone_ink is not None:              # no gamut to map into: one line says what it is
+            black, white = self.lightness_range
+            out.append(f"one ink: a monotone of the image's lightness in {self.monotone_ink} (each pixel's L*, "
+                       f"compensated onto the ink's L* {black:.1f} solid – {white:.1f} paper, printed as the "
+                       "coverage that prints it); the image's hues are not reproduced")
+        else:
+            out.extend(self._gamut_lines())
+        if self.residual_pixels:
+            what = "table nodes" if self.lut_nodes else "pixels"
+            out.append(f"{self.residual_pixels:,} {what} miss their mapped colour by more than ΔE76 "
+                       f"{self.gamut_de:g} (max {self.residual_max_de76:.2f}): the separation found no closer "
+                       "colour (its starts miss them, or the gamut's boundary is overestimated there)")
+        return out
+
+    def _gamut_lines(self) -> list[str]:
+        """The black-point compensation and what the gamut mapping moved (two inks or more)."""
+        out = []
         if self.lightness_range is not None:
             out.append(f"lightness compressed to the print's L* {self.lightness_range[0]:.1f}–"
                        f"{self.lightness_range[1]:.1f} (black-point compensation)")
         if self.mapped_pixels:
             verb = ("chroma compressed toward the cusp (perceptual)" if self.mapping == "perceptual"
                     else "clipped to the closest printable colour")
+            share = self.mapped_pixels / max(self.pixels, 1)
             out.append(f"out of gamut, {verb}: {self.mapped_pixels:,} pixels ({share:.1%}); ΔE2000 mean "
                        f"{self.mapped_mean_de2000:.2f}, max {self.mapped_max_de2000:.2f}")
         else:
             out.append("every pixel in gamut")
-        if self.residual_pixels:
-            what = "table nodes" if self.lut_nodes else "pixels"
-            out.append(f"{self.residual_pixels:,} {what} miss their mapped colour by more than ΔE76 "
-                       f"{self.gamut_de:g} (max {self.residual_max_de76:.2f}): the separation found no closer "
-                       "colour (its starts miss them, or the gamut's boundary is overestimated there)")
         return out
 
 
@@ -209,7 +248,7 @@ def separate_image(separator, rgb8: np.ndarray, settings: SolverSettings | None 
     rows, cols = rgb8.shape[:2]
     colours, index = unique_colours(rgb8)
     encoded = colours / 255.0
-    use_lut = separator.lut_nodes and colours.shape[0] > separator.lut_nodes ** 3
+    use_lut = separator.monotone is None and separator.lut_nodes and colours.shape[0] > separator.lut_nodes ** 3
     total = separator.lut_nodes ** 3 if use_lut else colours.shape[0]
     done = [0]
 
@@ -244,11 +283,11 @@ def separate_image(separator, rgb8: np.ndarray, settings: SolverSettings | None 
         rows * cols, colours.shape[0], int(w.sum()), separator.mapping,
         float(np.average(de00[moved], weights=w)) if w.sum() else 0.0, float(de00[moved].max(initial=0.0)),
         float(np.average(de00, weights=counts)), float(miss.max(initial=0.0)), missed_count,
-        separator.solver.gamut_de, separator.lut_nodes if use_lut else 0,
-        (separator.boundary.black_l, separator.boundary.white_l) if separator.mapping == "perceptual" else None,
-        ("black: " + separator.objective.rule.label()) if separator.objective.black is not None
+        separator.solver.gamut_de, separator.lut_nodes if use_lut else 0, separator.lightness_range,
+        "one ink, no black generation" if separator.monotone is not None
+        else ("black: " + separator.objective.rule.label()) if separator.objective.black is not None
         else f"no black ink, TAC {100 * separator.objective.rule.tac:g} %",
-        time.perf_counter() - t0)
+        time.perf_counter() - t0, separator.monotone.ink if separator.monotone is not None else None)
     k = model.n_inks
     return ImageSeparation(coverages.astype(np.float32)[index].reshape(rows, cols, k),
                            printed.astype(np.float32)[index].reshape(rows, cols, 3), report)
