@@ -14,6 +14,7 @@ docs/vector_referee.md.
     python -m benchmarks.bench_vector --voxel-map 0 --presets brewster,all,electric-mean
     python -m benchmarks.bench_vector --lamellae       # TM across lamellae: the local field's direction
     python -m benchmarks.bench_vector --tm-oblique     # the oblique TM error per face form (~3 min)
+    python -m benchmarks.bench_vector --rough-profile  # a rough top's TM profile: ΔE and time per merge
     python -m benchmarks.bench_vector --rcwa-validate  # the RCWA referee's checks (~1 min)
 
 Vector units are cached in out/bench/vector/ (one .npz per realization, λ, σ); the table lists
@@ -245,7 +246,8 @@ def quick() -> int:
     return 0
 
 
-def voxel_map_study(seconds: float, presets: tuple[str, ...], realizations: int = 1) -> int:
+def voxel_map_study(seconds: float, presets: tuple[str, ...], realizations: int = 1,
+                    rough: bool = False) -> int:
     """Print the voxel-grid map (benchmarks/vector/voxel_map.py) and draw its picture."""
     try:
         import grcwa  # noqa: F401
@@ -261,7 +263,8 @@ def voxel_map_study(seconds: float, presets: tuple[str, ...], realizations: int 
           f"{vm.CELL_NM:g} nm, grid {vm.GRID}, λ {vm.WAVELENGTHS} nm, views {vm.VIEWS_DEG}°, "
           f"pigment bulk ε for Maxwell, local field for the scalar; paper r = 0.9, diffuse light; "
           f"{realizations} realization(s) per case, incidence azimuth 0")
-    rows = vm.run(vm.cases(realizations), compute_until=until, presets=presets)
+    cases = vm.cases(realizations) + (vm.rough_cases(realizations) if rough else ())
+    rows = vm.run(cases, compute_until=until, presets=presets)
     views = " ".join(f"{v:>5g}°" for v in vm.VIEWS_DEG)
     print(f"\n{'case':<22} {'tm_faces':<14} {'pol':<6} ΔE2000 at {views}   max|ΔRbar|  max|ΔTbar|")
     for row in rows:
@@ -275,7 +278,38 @@ def voxel_map_study(seconds: float, presets: tuple[str, ...], realizations: int 
         per_view = " ".join(f"{v:.4f}" for v in row["dR_by_view"][:, 1])
         print(f"{'':<22} {'':<14} p: max|ΔRbar| per view {per_view}")
     vm.picture(rows, Path("out/bench/vector_voxel_map.png"))
-    print(f"\n--voxel-map: {time.monotonic() - t0:.0f} s; picture out/bench/vector_voxel_map.png")
+    took = time.monotonic() - t0
+    from benchmarks.yardstick import yardstick_s
+
+    ys = yardstick_s()
+    print(f"\n--voxel-map: {took:.0f} s, yardstick {ys:.2f} s ({took / ys:.0f} yardsticks); "
+          f"picture out/bench/vector_voxel_map.png")
+    return 0
+
+
+def rough_profile(realizations: int) -> int:
+    """Print the rough top's TM profile study (voxel_map.rough_profile_study)."""
+    try:
+        import grcwa  # noqa: F401
+    except ImportError:
+        print("grcwa is not installed: pip install -e '.[vector]' (optional extra)", file=sys.stderr)
+        return 2
+    from benchmarks.vector import voxel_map as vm
+    from benchmarks.yardstick import yardstick_s
+
+    t0 = time.monotonic()
+    rows = vm.rough_profile_study(max(realizations, 2))
+    print("a rough top's TM conditions: unpolarised ΔE2000 against RCWA (voxel map's rough cases, "
+          f"views {vm.VIEWS_DEG}°, max over the views) and one TM solve pair (above + below) of the "
+          "default table (Y30 sphere:200:rough, 48×48×24, 560 nm, mean of 45° and 75°, CPU s)")
+    print(f"{'TM conditions':<16} {'layers':>6} {'CPU s':>7} {'apps':>6}  " +
+          "  ".join(f"{label:>22}" for label in rows[0]["de"]))
+    for row in rows:
+        des = "  ".join(f"{max(v):6.2f} ({' '.join(f'{x:.2f}' for x in v)})" for v in row["de"].values())
+        print(f"{row['kind']:<16} {row['layers']:>6} {row['seconds']:>7.3f} {row['applications']:>6.1f}  {des}")
+    took = time.monotonic() - t0
+    ys = yardstick_s()
+    print(f"\n--rough-profile: {took:.0f} s, yardstick {ys:.2f} s ({took / ys:.0f} yardsticks)")
     return 0
 
 
@@ -300,12 +334,19 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--realizations", type=int, default=1,
                     help="realizations per case of --voxel-map (default 1)")
     ap.add_argument("--presets", default="brewster",
-                    help="TM face presets for --voxel-map, comma-separated (default: brewster)")
+                    help="scalar TM variants for --voxel-map, comma-separated: a face preset "
+                         "(the tables' TM with it), or PRESET/profile for the layer's mean profile "
+                         "with Maxwell's TM conditions (default: brewster)")
+    ap.add_argument("--rough", action="store_true",
+                    help="add rough tops (200-nm spheres at 15 and 30 %%) to --voxel-map")
     ap.add_argument("--lamellae", action="store_true",
                     help="lamellar gratings in TM against RCWA: bulk ε and local fields by field "
                          "direction (~3 min)")
     ap.add_argument("--tm-oblique", action="store_true",
                     help="the oblique TM error of a dilute sphere layer against RCWA, per face preset")
+    ap.add_argument("--rough-profile", action="store_true",
+                    help="a rough top's mean-profile TM conditions per merge tolerance: ΔE2000 "
+                         "against RCWA (two realizations) and the cost of a TM solve (~5 min)")
     ap.add_argument("--rcwa-validate", action="store_true",
                     help="the RCWA referee's checks: exact film, lamellar grating s = scalar TE")
     args = ap.parse_args(argv)
@@ -326,6 +367,8 @@ def main(argv: list[str] | None = None) -> int:
         voxel_map.oblique_study()
         print(f"\n--tm-oblique: {time.monotonic() - t0:.0f} s")
         return 0
+    if args.rough_profile:
+        return rough_profile(args.realizations)
     if args.lamellae:
         from benchmarks.vector import lamellae
         t0 = time.monotonic()
@@ -333,7 +376,8 @@ def main(argv: list[str] | None = None) -> int:
         print(f"\n--lamellae: {time.monotonic() - t0:.0f} s")
         return 0
     if args.voxel_map is not None:
-        return voxel_map_study(args.voxel_map, tuple(args.presets.split(",")), args.realizations)
+        return voxel_map_study(args.voxel_map, tuple(args.presets.split(",")), args.realizations,
+                               args.rough)
     try:
         import treams  # noqa: F401
     except ImportError:

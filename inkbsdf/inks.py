@@ -172,6 +172,8 @@ def load_inks(props) -> tuple[InkSource, ...]:
             lut = source.load_table(own)
         except ValueError as exc:                  # TableError, CacheError, a request's error
             message = f"ink BSDF, ink {n}: {re.sub(r'^(ink BSDF:? )+', '', str(exc))}"
+            for name, key in origin.items():       # the parameters as the scene names them
+                message = message.replace(f"'{name}'", f"'{key}'").replace(f'name="{name}"', f'name="{key}"')
             raise (TableError if isinstance(exc, TableError) else InkParameterError)(message) from None
         used = {}
         for name, key in origin.items():

@@ -165,6 +165,16 @@ def test_library_error_is_short_with_the_cause_and_fix(use_variant, ink_tables, 
     assert "--" not in deep                                          # no ink-tables option names
 
 
+def test_a_numbered_ink_error_names_the_numbered_parameter(use_variant, ink_tables):
+    """Ink 2's type error speaks of 'ink2' and shows <string name="ink2" …/>, the parameter the
+    scene wrote, not the single-ink name it is read under."""
+    mi = use_variant("llvm_ad_spectral")
+    msg = _load_from_depth(mi, {"type": "ink", "filename1": str(ink_tables["R30"]), "ink2": 3.0,
+                                "coverage1": 0.5, "coverage2": 0.5}, 0)
+    assert ('InkParameterError: ink BSDF, ink 2: parameter \'ink2\' must be a <string> (e.g. '
+            '<string name="ink2" value="R15"/>)') in msg, msg
+
+
 def test_a_thin_in_scene_ink_is_warned_of_naming_the_parameter(use_variant, tmp_path):
     """thickness=1 (µm typed as nm): the tables' thin-layer warning, worded for a scene."""
     mi = use_variant("llvm_ad_spectral")

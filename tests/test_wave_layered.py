@@ -1,11 +1,12 @@
 """The layered preconditioner (solver/wave/layered.py): a rough top's solves at ≤ 2× the
-applications of the flat twin's, to the same answer."""
+applications of the flat twin's, to the same answer — in TM with the rough top's mean profile
+and its inner interfaces (the tables' TM conditions, wave_tier.tm_faces)."""
 
 import numpy as np
 import pytest
 
 from solver.table.request import table_request
-from solver.table.wave_tier import GeometryUnit, cell_eps, face_eps, geometry_unit, nominal_eps
+from solver.table.wave_tier import GeometryUnit, cell_eps, geometry_unit, nominal_eps, tm_faces
 from solver.wave import Cell, prepare, solve_prepared
 from solver.wave import layered
 
@@ -19,7 +20,7 @@ def _operator(particles, sigma_deg, polarisation="te"):
     cell = Cell(cell_eps(req, vox, WAVELENGTH_NM), tuple(vox.period_nm), tuple(vox.z_range_nm))
     k0 = 2 * np.pi / WAVELENGTH_NM
     return prepare(cell, WAVELENGTH_NM, k0 * np.sin(np.radians(sigma_deg)), 0.0,
-                   eps_background=nominal_eps(req, WAVELENGTH_NM), eps_face=face_eps(req, WAVELENGTH_NM),
+                   eps_background=nominal_eps(req, WAVELENGTH_NM), eps_face=tm_faces(req, WAVELENGTH_NM, cell.eps),
                    polarisation=polarisation, workers=1)
 
 
@@ -34,6 +35,8 @@ def test_rough_top_within_twice_the_flat_twins_applications(sigma_deg, polarisat
     flat_op = _operator("sphere:300", sigma_deg, polarisation)
     rough_op = _operator("sphere:300:rough", sigma_deg, polarisation)
     assert not layered.wanted(flat_op) and layered.wanted(rough_op)   # 'auto' picks the rough top only
+    if polarisation == "tm":       # the rough top's profile: TM conditions at inner interfaces
+        assert rough_op.interfaces is not None and flat_op.interfaces is None
     _, flat = _pair(flat_op, "none")
     plain_res, plain = _pair(rough_op, "none")
     pre_res, pre = _pair(rough_op, "auto")
@@ -71,7 +74,7 @@ def test_the_true_residual_from_the_arnoldi_relation_is_the_explicit_one(dtype):
     cell = Cell(cell_eps(req, vox, WAVELENGTH_NM), tuple(vox.period_nm), tuple(vox.z_range_nm))
     k0 = 2 * np.pi / WAVELENGTH_NM
     op = prepare(cell, WAVELENGTH_NM, k0 * np.sin(np.radians(30.0)), 0.0,
-                 eps_background=nominal_eps(req, WAVELENGTH_NM), eps_face=face_eps(req, WAVELENGTH_NM),
+                 eps_background=nominal_eps(req, WAVELENGTH_NM), eps_face=tm_faces(req, WAVELENGTH_NM, cell.eps),
                  polarisation="tm", workers=1, dtype=dtype)
     ws = Workspace(op)
     try:

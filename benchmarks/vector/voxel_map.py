@@ -29,8 +29,9 @@ from solver.geometry import eps_grid
 from solver.materials import default_materials
 from solver.table.request import table_request
 from solver.table.wave_tier import (GeometryUnit, cell_eps, face_eps, geometry_unit,
-                                    nominal_eps)
+                                    nominal_eps, tm_faces)
 from solver.wave import Cell, Incidence, bloch_vector, prepare, solve_prepared
+from solver.wave.interfaces import mean_profile
 from solver.wave.vecops import one_blas_thread
 
 from .compare import Ensemble, albedo_on_paper, delta_e2000, lab_of
@@ -74,26 +75,47 @@ def cases(realizations: int = 1) -> tuple[MapCase, ...]:
 CASES = cases()
 
 
+def rough_cases(realizations: int = 1) -> tuple[MapCase, ...]:
+    """Rough tops (200-nm Y spheres standing out of the binder) at 15 and 30 %: the strongest
+    mean profile, air between the grains at the top."""
+    return tuple(MapCase(f"Y{c}", "sphere:200:rough", realizations) for c in (15, 30))
+
+
 def _path(case: MapCase, solver: str, r: int, lam: float, sig: float) -> Path:
     grid = "x".join(map(str, GRID))
     return CACHE / f"{case.key}_cell{CELL_NM:g}_{grid}" / f"{solver}_r{r}_l{lam:g}_s{sig:g}.npz"
 
 
-def _scalar(req, vox, lam: float, sig: float, preset: str) -> np.ndarray:
-    """[R_TE, R_TM], [T_TE, T_TM] of the default table's solves at azimuth 0."""
+def tm_conditions(req, lam: float, eps: np.ndarray, faces_kind: str):
+    """The TM conditions of a scalar variant (scalar_solver): 'scalar' the default tables'
+    (wave_tier.tm_faces), 'layer' each layer's own ε on its faces (wave_tier.face_eps: the
+    tables' rule before rough tops got their profile), 'profile<merge>' the realization's mean
+    profile merged by <merge> (solver.wave.interfaces.mean_profile; 'profile' = every z-cell)."""
+    if faces_kind == "scalar":
+        return tm_faces(req, lam, eps)
+    if faces_kind == "layer":
+        return face_eps(req, lam)
+    return mean_profile(eps, float(faces_kind.removeprefix("profile") or 0.0))
+
+
+def _scalar(req, vox, lam: float, sig: float, preset: str, faces_kind: str) -> np.ndarray:
+    """[R_TE, R_TM], [T_TE, T_TM] of the scalar solves at azimuth 0 with the TM conditions of
+    faces_kind (tm_conditions)."""
     cell = Cell(cell_eps(req, vox, lam), tuple(vox.period_nm), tuple(vox.z_range_nm))
     kx0, ky0 = bloch_vector(cell, Incidence(lam, math.radians(sig)))
+    faces = tm_conditions(req, lam, cell.eps, faces_kind)
     out = np.zeros((2, 2))
     for i, pol in enumerate(("te", "tm")):
         op = prepare(cell, lam, kx0, ky0, eps_background=nominal_eps(req, lam),
-                     eps_face=face_eps(req, lam), polarisation=pol, tm_faces=preset)
+                     eps_face=faces, polarisation=pol, tm_faces=preset)
         res = solve_prepared(op, tol=1e-5)
         out[:, i] = res.R, res.T
     return out
 
 
 def unit(case: MapCase, solver: str, r: int, lam: float, sig: float) -> np.ndarray:
-    """[[R_s, R_p], [T_s, T_p]] of one unit, cached; solver 'rcwa' or 'scalar:<preset>'."""
+    """[[R_s, R_p], [T_s, T_p]] of one unit, cached; solver 'rcwa' or '<kind>:<preset>'
+    (scalar_solver)."""
     path = _path(case, solver, r, lam, sig)
     if path.exists():
         return np.load(path)["rt"]
@@ -106,7 +128,8 @@ def unit(case: MapCase, solver: str, r: int, lam: float, sig: float) -> np.ndarr
                           math.radians(sig))
             rt = np.array([res.R, res.T])
         else:
-            rt = _scalar(req, vox, lam, sig, solver.split(":", 1)[1])
+            kind, preset = solver.split(":", 1)
+            rt = _scalar(req, vox, lam, sig, preset, kind)
     path.parent.mkdir(parents=True, exist_ok=True)
     np.savez(path, rt=rt)
     return rt
@@ -136,16 +159,32 @@ def delta_e(vec: Ensemble, sca: Ensemble) -> dict[str, np.ndarray]:
     return {name: delta_e2000(lab_of(vec, k), lab_of(sca, k)) for k, name in enumerate(("s", "p", "unpol"))}
 
 
+def scalar_solver(variant: str) -> str:
+    """The cache name of a scalar variant: '<preset>' is the tables' TM with that face preset,
+    '<preset>/layer' each layer's own faces, '<preset>/profile[<merge>]' the mean profile
+    (tm_conditions)."""
+    preset, _, kind = variant.partition("/")
+    try:
+        if kind.startswith("profile"):
+            kind = f"profile{float(kind.removeprefix('profile') or 0.0):g}"
+        elif kind not in ("", "layer"):
+            raise ValueError(kind)
+    except ValueError:
+        raise ValueError(f"a scalar variant is '<preset>', '<preset>/layer' or "
+                         f"'<preset>/profile[<merge>]', got {variant!r}") from None
+    return f"{kind or 'scalar'}:{preset}"
+
+
 def run(cases=CASES, compute_until: float | None = None, presets=("brewster",)) -> list[dict]:
-    """Rows per case and preset: ΔE per view and polarisation, the largest |ΔRbar|, |ΔTbar|
-    per polarisation; missing rows (time up) are reported as such."""
+    """Rows per case and scalar variant (scalar_solver): ΔE per view and polarisation, the
+    largest |ΔRbar|, |ΔTbar| per polarisation; missing rows (time up) are reported as such."""
     rows = []
     for case in cases:
         for preset in presets:
             compute = compute_until is None or time.monotonic() < compute_until
             t0 = time.perf_counter()
             vec = ensemble(case, "rcwa", compute)
-            sca = ensemble(case, f"scalar:{preset}", compute) if vec is not None else None
+            sca = ensemble(case, scalar_solver(preset), compute) if vec is not None else None
             if vec is None or sca is None:
                 rows.append(dict(case=case.label, preset=preset, missing=True))
                 continue
@@ -187,7 +226,43 @@ def picture(rows: list[dict], path: Path) -> None:
 #: the oblique TM study (issue 22 item 2): a dilute layer of 200-nm Y spheres (≈ 10 %), a
 #: transparent and an absorbing wavelength, σ from below to beyond Brewster's angle (≈ 57°)
 OBLIQUE_CASE = MapCase("Y10", "sphere:200")
-OBLIQUE_PRESETS = ("brewster", "electric-propagating", "electric", "all")
+OBLIQUE_PRESETS = ("brewster", "brewster/profile", "electric-propagating", "electric", "all")
+
+
+#: the merge tolerances of a rough top's mean profile measured by rough_profile_study
+ROUGH_MERGES = (0.0, 0.02, 0.05, 0.1, 0.2)
+
+
+def rough_profile_study(realizations: int = 2, merges=ROUGH_MERGES) -> list[dict]:
+    """The rough top's TM conditions as an accuracy knob: per merge tolerance, the unpolarised
+    ΔE2000 against Maxwell (the rough cases, max over the views), the TM layers and the cost of
+    one TM solve pair (above and below) on the default table's grid (Y30 sphere:200:rough,
+    560 nm, 45° and 75°, its tolerance); the layer's own faces ('layer') for comparison."""
+    from solver.apps.figures.cells import FigureSettings
+
+    req = FigureSettings("default").request("Y30", "sphere:200:rough")
+    vox = geometry_unit(GeometryUnit(req, 0))
+    lam = 560.0
+    cell = Cell(cell_eps(req, vox, lam), tuple(vox.period_nm), tuple(vox.z_range_nm))
+    rows = []
+    for kind in ("layer",) + tuple(f"profile{m:g}" for m in merges):
+        faces = tm_conditions(req, lam, cell.eps, kind)
+        seconds, apps = 0.0, 0
+        with one_blas_thread():
+            for sig in (45.0, 75.0):
+                kx0, ky0 = bloch_vector(cell, Incidence(lam, math.radians(sig)))
+                t0 = time.process_time()
+                op = prepare(cell, lam, kx0, ky0, eps_background=nominal_eps(req, lam),
+                             eps_face=faces, polarisation="tm", workers=1)
+                for below in (False, True):
+                    apps += solve_prepared(op, below, tol=req.wave.solver_tol).applications
+                seconds += time.process_time() - t0
+        de = {}
+        for case in rough_cases(realizations):
+            vec, sca = ensemble(case, "rcwa", True), ensemble(case, f"{kind}:brewster", True)
+            de[case.label] = delta_e(vec, sca)["unpol"]
+        rows.append(dict(kind=kind, layers=len(faces.cells), seconds=seconds / 2, applications=apps / 2, de=de))
+    return rows
 
 
 def oblique_study(wavelengths=(700.0, 470.0), angles=(30.0, 50.0, 60.0, 70.0),
@@ -201,6 +276,6 @@ def oblique_study(wavelengths=(700.0, 470.0), angles=(30.0, 50.0, 60.0, 70.0),
             vec = unit(OBLIQUE_CASE, "rcwa", 0, lam, sig)
             line = f"λ {lam:g} σ {sig:g}: Maxwell p R {vec[0, 1]:.4f} T {vec[1, 1]:.4f}"
             for preset in presets:
-                sca = unit(OBLIQUE_CASE, f"scalar:{preset}", 0, lam, sig)
+                sca = unit(OBLIQUE_CASE, scalar_solver(preset), 0, lam, sig)
                 line += f" | {preset}: ΔR {sca[0, 1] - vec[0, 1]:+.4f} ΔT {sca[1, 1] - vec[1, 1]:+.4f}"
             print(line, flush=True)

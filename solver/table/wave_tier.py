@@ -19,9 +19,10 @@ Sampling (docs/tables.md):
 - the background slab's ε_b is the ink's nominal mean permittivity (the voxel fractions make
   each realization's mean equal to it); the TM faces' ε_f are each layer's own (face_eps: for
   one layer ε_b; a stack's faces its top and bottom layers', and its inner interfaces get the
-  TM conditions).
+  TM conditions), except a rough top's: its realization's mean profile (`tm_faces`).
 - the scheme-exact energy identity (quadrature of ∫ Im ε |u|²) is evaluated on one solve per
-  unit; every other solve closes its energy from the true residual (solver.wave).
+  unit (the first without TM inner interfaces); every other solve closes its energy from the
+  true residual (solver.wave).
 - every full solve converges or the unit is refused: a solve short of its tolerance climbs the
   ladder of stronger settings (retry.py), and `retries` counts the rungs climbed per [σ, sample].
 """
@@ -38,6 +39,7 @@ from ..geometry import LayerSpec, eps_grid, generate, voxelize
 from ..geometry.stacking import split_cells, stack_voxels, uniform_layer
 from ..inks import molecular_eps
 from ..wave import Cell, FaceLayers, prepare, solve_prepared
+from ..wave.interfaces import mean_profile
 from .orders_to_brdf import fold_dphi, spread_orders
 from .request import TableRequest
 from .retry import converged_solve
@@ -129,6 +131,24 @@ def face_eps(request: TableRequest, wavelength_nm: float) -> FaceLayers:
     return FaceLayers(tuple(cells), tuple(layer_eps(request, wavelength_nm)))
 
 
+#: a rough top's mean profile: neighbouring z-cells within this relative |Δε̄| share one TM
+#: layer (interfaces.mean_profile; 0: every z-cell its own).  Measured against RCWA and in time
+#: (`python -m benchmarks.bench_vector --rough-profile`, docs/vector_referee.md).
+ROUGH_PROFILE_MERGE = 0.05
+
+
+def tm_faces(request: TableRequest, wavelength_nm: float, eps: np.ndarray) -> FaceLayers:
+    """The TM conditions of a realization eps (nx, ny, nz): a rough top gets its mean profile
+    (air between the grains' caps down to the binder, then the layer) with Maxwell's TM
+    conditions between its layers (`mean_profile`, merged by ROUGH_PROFILE_MERGE); a flat
+    layer or stack keeps its layers' own faces (`face_eps`), where the profile is the grains'
+    ramp whose correction is not better against Maxwell (docs/wave_solver.md, "The mean
+    profile in TM")."""
+    if request.has_rough_top:
+        return mean_profile(eps, ROUGH_PROFILE_MERGE)
+    return face_eps(request, wavelength_nm)
+
+
 def cell_eps(request: TableRequest, vox, wavelength_nm: float) -> np.ndarray:
     """Permittivity per voxel of a realization: each layer's z cells with that layer's material
     data (`TableRequest.layer_materials`: its grains' local field)."""
@@ -218,7 +238,7 @@ def solve_unit(unit: SolveUnit) -> dict:
     sig, phis, todo = req.grids.solved_sigma_rad, azimuths(req, unit.realization), samples(req, unit.realization)
     below = needs_below(req)
     cell = Cell(cell_eps(req, vox, wl), tuple(vox.period_nm), tuple(vox.z_range_nm))
-    eps_nominal, eps_faces = nominal_eps(req, wl), face_eps(req, wl)
+    eps_nominal, eps_faces = nominal_eps(req, wl), tm_faces(req, wl, cell.eps)
     z_top, z_bottom = (float(z) for z in vox.z_range_nm)
     polar, dphi = np.asarray(req.grids.sigma_rad), req.grids.dphi_rad
     shape = (sig.size, len(todo))
@@ -231,13 +251,17 @@ def solve_unit(unit: SolveUnit) -> dict:
     out["energy_error_exact"] = np.zeros(1)
     k0 = 2.0 * np.pi / wl
     checked = exact_identity_checked(req, unit.realization, unit.wavelength_index)
+    first_checkable = next((k for k, (_, pol) in enumerate(todo)
+                            if pol == TE or not eps_faces.boundaries), None)
     for i, s in enumerate(sig):
         for k, (j, pol) in enumerate(todo):
             phi = phis[j]
             kx0, ky0 = k0 * np.sin(s) * np.cos(phi), k0 * np.sin(s) * np.sin(phi)
             make_op = _operators(cell, wl, kx0, ky0, eps_nominal, eps_faces, ("te", "tm")[pol],
                                  unit.threads)
-            exact = i == 0 and k == 0 and checked and unit.method != "born"   # the sampled exact identity
+            # the sampled exact identity, on the unit's first solve it can weigh (not a TM solve
+            # across inner interfaces: solver/wave/energy.py)
+            exact = i == 0 and k == first_checkable and checked and unit.method != "born"
             for from_below in ((False, True) if below else (False,)):
                 if unit.method == "born":      # first order by design: truncated on purpose
                     res = solve_prepared(make_op(), from_below, tol=req.wave.solver_tol,

@@ -45,6 +45,7 @@ from .faces import FORMS
 from .fftback import FFT
 from .kernel1d import SlabGreen, background_amplitudes, face_weights, harmonic_green
 from .zbasis import single_integrals
+from .zkernels import ZKernels, ZWork, apply_z
 
 
 @dataclass(frozen=True)
@@ -76,6 +77,22 @@ class FaceLayers:
         return tuple(out)
 
 
+def mean_profile(eps: np.ndarray, merge: float = 0.0) -> FaceLayers:
+    """The lateral-mean permittivity of the z-cells of a voxel grid eps (nx, ny, nz) as layers
+    with Maxwell's TM conditions between them, on every harmonic (docs/wave_solver.md, "The mean
+    profile in TM"): neighbouring z-cells within `merge` (relative |Δε̄|) of a layer's first cell
+    join that layer, with their mean ε (0: one layer per z-cell, exact for a laterally
+    homogeneous graded film)."""
+    prof = np.asarray(eps).mean(axis=(0, 1))
+    cells, values, start = [], [], 0
+    for k in range(1, prof.size + 1):
+        if k == prof.size or abs(prof[k] - prof[start]) > merge * abs(prof[start]):
+            cells.append(k - start)
+            values.append(complex(prof[start:k].mean()))
+            start = k
+    return FaceLayers(tuple(cells), tuple(values))
+
+
 def layer_weight(form, eps_f: complex, kt2, k0: float):
     """ℓ: the factor by which a layer of ε_f weighs the scalar flux of a harmonic of that form
     (FORMS index) and k_t² (module doc)."""
@@ -87,8 +104,9 @@ def layer_weight(form, eps_f: complex, kt2, k0: float):
 class Interfaces:
     """The correction of one Background's Green's function for its inner interfaces.
 
-    index: k_i per interface; profile (n, nb, nz, H) and derivative (n, nb, nz, H) in the
-    operator's dtype and backend (derivative includes the cell height h); gain (H, n, n): S;
+    index: k_i per interface; profile (H, nb·nz, n) and derivative (H, n, nb·nz) in the
+    operator's dtype and backend (harmonic-major, so that every use is one batched matrix
+    product; derivative includes the cell height h); gain (H, n, n): S;
     gain_lateral: S times the operator's inverse-FFT factor; face_top, face_bottom (n, H): the
     reported face amplitudes of a unit source at z_i (g(0, z_i), g(H, z_i) times the faces'
     reporting factor); background_above, background_below (n,): σ in the 00 background wave of
@@ -111,8 +129,9 @@ class Interfaces:
     def sources(self, fh: np.ndarray, lateral: bool = False) -> np.ndarray:
         """σ (n, H) of the lateral-DFT source moments fh (nb, nz, H) (times the inverse-FFT
         factor when `lateral`)."""
-        d = np.einsum("iqkh,qkh->ih", self.derivative, fh)
-        return np.einsum("hij,jh->ih", self.gain_lateral if lateral else self.gain, d)
+        f = fh.reshape(-1, fh.shape[-1]).T[..., None]                  # (H, nb·nz, 1)
+        gain = self.gain_lateral if lateral else self.gain
+        return (gain @ (self.derivative @ f))[..., 0].T
 
     def background(self, from_below: bool) -> np.ndarray:
         """σ (n,) of the 00 background wave of unit incidence from above or below."""
@@ -120,7 +139,27 @@ class Interfaces:
 
     def add_field(self, out: np.ndarray, sigma: np.ndarray) -> None:
         """out (nb, nz, H) += Σ_i g(·, z_i)·σ_i (moments)."""
-        out += np.einsum("iqkh,ih->qkh", self.profile, sigma)
+        out += (self.profile @ sigma.T[..., None])[..., 0].T.reshape(out.shape)
+
+    def coherent_profile(self, sigma: np.ndarray, to_host) -> np.ndarray:
+        """Σ_i g(·, z_i)·σ_i of the 00 harmonic (nb·nz,) on the host, for σ (n,)."""
+        return np.asarray(to_host(self.profile[0]), complex) @ sigma
+
+    def correction(self, harmonics: np.ndarray, to_host) -> np.ndarray:
+        """G′ − G of the harmonics (indices into H) as matrices (len, nb·nz, nb·nz) on the
+        moments (host, complex): Σ_i g(·, z_i)(S·D)_i, the true G's (`gain`, no FFT factor)."""
+        host = lambda x: np.asarray(to_host(x), complex)[harmonics]  # noqa: E731
+        return host(self.profile) @ host(self.gain) @ host(self.derivative)
+
+
+def green_moments(zk: ZKernels, inner: "Interfaces | None", flat: np.ndarray, work: ZWork) -> np.ndarray:
+    """G (the slab's, corrected for the inner interfaces when `inner` is given) on lateral-DFT
+    source moments flat (nb, nz, H), in place; the inverse-FFT factor as zkernels folds it."""
+    sigma = None if inner is None else inner.sources(flat, lateral=True)   # before apply_z
+    apply_z(zk, flat, work)
+    if sigma is not None:
+        inner.add_field(flat, sigma)
+    return flat
 
 
 def _powers(sg: SlabGreen) -> np.ndarray:
@@ -160,6 +199,7 @@ def build(sg: SlabGreen, layers: FaceLayers, form: np.ndarray, kt2: np.ndarray, 
     def pw(exponent: np.ndarray) -> np.ndarray:                 # a^exponent per cell: (nz, H)
         return a[:, exponent].T
 
+    kj = np.array([k for k, _, _ in bounds])
     ctop, cbot = face_weights(sg)
     ctop, cbot = ctop.reshape(-1) / h, cbot.reshape(-1) / h
     for i, (ki, above, below) in enumerate(bounds):
@@ -180,11 +220,11 @@ def build(sg: SlabGreen, layers: FaceLayers, form: np.ndarray, kt2: np.ndarray, 
                                           - s * rt * rb * double)
         gamma[:, i] = 1.0 - layer_weight(form[0], below, kt2[0], k0) / layer_weight(
             form[0], above, kt2[0], k0)                     # γ = 1 − c₁/c₂ = 1 − ℓ₂/ℓ₁ (00)
-        for j, (kj, _, _) in enumerate(bounds):
-            sj = -1.0 if kj >= ki else 1.0
-            d = abs(ki - kj)
-            m[:, i, j] = pre * 1j * kap * (sj * a[:, d] + rt * a[:, ki + kj] - rb * a[:, big - ki - kj]
-                                           - sj * rt * rb * a[:, big - d])
+        sj = np.where(kj >= ki, -1.0, 1.0)                     # M_ij = ∂_z g(z_i⁻, z_j)
+        d = np.abs(ki - kj)
+        m[:, i, :] = (pre * 1j * kap)[:, None] * (sj * a[:, d] + rt[:, None] * a[:, ki + kj]
+                                                  - rb[:, None] * a[:, big - ki - kj]
+                                                  - sj * (rt * rb)[:, None] * a[:, big - d])
         face_top[i] = ctop * (a[:, ki] + rb * a[:, big - ki])
         face_bottom[i] = cbot * (a[:, nz - ki] + rt * a[:, nz + ki])
         slope_above[i] = 1j * kap[0] * (a[0, ki] - rb[0] * a[0, big - ki])
@@ -198,6 +238,9 @@ def build(sg: SlabGreen, layers: FaceLayers, form: np.ndarray, kt2: np.ndarray, 
     bottom_w = complex(layer_weight(form[0], complex(layers.eps[-1]), kt2[0], k0))
     lateral = 1.0 if backend.normalised else 1.0 / size
     cast = lambda x: backend.asarray(x, dtype)                  # noqa: E731
+    points = nb * nz
+    profile = np.ascontiguousarray(profile.reshape(n, points, size).transpose(2, 1, 0))
+    deriv = np.ascontiguousarray(deriv.reshape(n, points, size).transpose(2, 0, 1))
     return Interfaces(tuple(k for k, _, _ in bounds), cast(profile), cast(deriv), cast(gain),
                       cast(gain * lateral), face_top, face_bottom, sigma_a, sigma_b,
                       top_w, bottom_w)

@@ -16,7 +16,8 @@ the slab or are weakly evanescent (|k_t| ≤ CUTOFF·k0·√|ε_b|) and the iden
 (the same solution w for any P).  G_h is the z-recursion operator (zkernels.apply_z) applied to the
 unit moments of every z-cell, for all kept harmonics in one call.  Where V̄ is weak (a flat
 layer: ε_b is the layer's own mean) the preconditioner gains nothing and is not used
-(`wanted`).  Stacks with TM inner interfaces (their G carries a rank-n correction) are left out.
+(`wanted`).  With TM inner interfaces (a stack, a rough top's mean profile) G_h carries their
+rank-n correction (interfaces.Interfaces.correction), in M_h as in every application.
 """
 
 from __future__ import annotations
@@ -27,6 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .scratch import borrow, give_back
+from .interfaces import green_moments
 from .zkernels import ZKernels, ZWork, apply_z
 
 #: harmonics with |k_t| ≤ CUTOFF·k0·√|ε_b| get the exact 1-D inverse (the rest: identity)
@@ -59,7 +61,7 @@ def wanted(op, mode: str = "auto") -> bool:
     (where its lateral-mean contrast is strong, MIN_MEAN_CONTRAST)."""
     if mode not in MODES:
         raise ValueError(f"preconditioner must be one of {MODES}, got {mode!r}")
-    if mode == "none" or op.interfaces is not None:
+    if mode == "none":
         return False
     return mode == "layered" or float(np.max(np.abs(mean_contrast(op)))) >= MIN_MEAN_CONTRAST * op.k0 ** 2
 
@@ -106,7 +108,10 @@ def _prepare(op) -> Layered:
         work.release()
     if not op.fft.normalised:
         green = green * size                                       # the true G (zk folds 1/N)
-    m = np.eye(n)[None] - np.moveaxis(green, 2, 0) * np.tile(vbar, nb)[None, None, :]
+    green = np.moveaxis(green, 2, 0)                               # [h, i, j]
+    if op.interfaces is not None:                                  # a TM stack or profile
+        green = green + op.interfaces.correction(kept, op.fft.to_host)
+    m = np.eye(n)[None] - green * np.tile(vbar, nb)[None, None, :]
     inverse = op.fft.asarray(np.linalg.inv(m), op.dtype)
     return Layered(op.fft.asarray(kept), inverse, op.fft.asarray(m, op.dtype),
                    1.0 if op.fft.normalised else 1.0 / size)
@@ -172,7 +177,7 @@ def scatter(op, lay: Layered, wh: np.ndarray, ws, out: np.ndarray | None = None)
     finally:
         give_back(spare, backend=op.fft)
     flat = fh.reshape(nb, nz, size)
-    apply_z(op.zk, flat, ws.z)
+    green_moments(op.zk, op.interfaces, flat, ws.z)
     rows = flat.reshape(nb * nz, size)
     src = wh.reshape(nb * nz, size)[:, lay.kept]
     rows[:, lay.kept] = src + np.einsum("hij,jh->ih", lay.inverse, rows[:, lay.kept] - src)

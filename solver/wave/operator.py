@@ -27,12 +27,12 @@ import numpy as np
 
 from .faces import (DEFAULT_TM_FACES, TMFaces, face_coefficients, harmonic_forms,
                     parse_tm_faces)
-from .interfaces import FaceLayers, Interfaces, build as build_interfaces
+from .interfaces import FaceLayers, Interfaces, build as build_interfaces, green_moments
 from .fftback import DEFAULT_FFT, FFT, aligned_empty, default_workers, get_fft
 from .scratch import borrow, give_back
 from .kernel1d import SlabGreen, face_profiles, slab_green, vertical_wavenumber
 from .types import Cell
-from .zkernels import ZKernels, ZWork, apply_z, z_kernels
+from .zkernels import ZKernels, ZWork, z_kernels
 
 #: default minimum Im ε_b of the background slab (fictitious loss that keeps the guided-mode
 #: poles of a lossless film off the real axis; the contrast carries −i·δ back).  See docs.
@@ -334,11 +334,7 @@ def _green_zmajor(op: LayerOperator, f: np.ndarray, ws: Workspace) -> np.ndarray
     nb, nz, nx, ny = f.shape
     fh = op.fft.lateral(f)
     flat = fh.reshape(nb, nz, nx * ny)
-    inner = op.interfaces
-    sigma = None if inner is None else inner.sources(flat, lateral=True)   # before apply_z
-    apply_z(op.zk, flat, ws.z)
-    if sigma is not None:
-        inner.add_field(flat, sigma)
+    green_moments(op.zk, op.interfaces, flat, ws.z)
     return op.fft.lateral(fh, inverse=True)
 
 

@@ -170,7 +170,7 @@ def source(op: LayerOperator, from_below: bool = False) -> np.ndarray:
     inner = op.interfaces
     if inner is not None:     # the inner interfaces' sources in the background wave (00)
         sigma = inner.background(from_below)
-        prof = prof + np.einsum("iqk,i->qk", op.fft.to_host(inner.profile[..., 0]), sigma)
+        prof = prof + inner.coherent_profile(sigma, op.fft.to_host).reshape(prof.shape)
     return np.broadcast_to(prof[:, None, None, :].astype(op.dtype), op.unknown_shape).copy()
 
 
