@@ -90,7 +90,8 @@ def build_parser() -> argparse.ArgumentParser:
                         "darkest neutral one")
     p.add_argument("--gamut", default=MAPPINGS[0], choices=MAPPINGS,
                    help="perceptual: hue-preserving compression toward the cusp (one ink: a monotone of the "
-                        "image's lightness in it); clip: the closest printable colour")
+                        "image's lightness in it; two inks: the image mapped onto their surface of colours); clip: "
+                        "the closest printable colour")
     p.add_argument("--gamut-knee", type=float, default=GamutSettings().knee,
                    help="share of the gamut left untouched by the perceptual mapping, in [0, 1)")
     p.add_argument("--lut", type=int, default=DEFAULT_LUT_NODES,
@@ -260,7 +261,7 @@ def main(argv=None) -> int:
 
 def _main(argv) -> int:
     from solver.apps.separation import DotsError, print_image, printed_inks, read_image, write_textures
-    from solver.apps.separation.monotone import MonotoneError
+    from solver.apps.separation import DuotoneError, MonotoneError
 
     args = build_parser().parse_args(argv)
     configure_logging(args.verbose, builds=True)
@@ -293,7 +294,7 @@ def _main(argv) -> int:
     bar = ColourProgress(args.quiet)
     try:
         result = print_image(rgb8, settings, printed, progress=bar, grid=grid)
-    except MonotoneError as exc:
+    except (MonotoneError, DuotoneError) as exc:
         raise UsageError(f"--inks: {exc}") from None
     finally:
         bar.close()

@@ -9,9 +9,9 @@ NumPy; Pillow for image files): docs/printing.md.
 Stages, one per module: `printset` (ink lists → tables of inks and overprints, through the
 cache), `printmodel` (coverages → CIELAB under the press's measurement, 45:0 D50, with
 `solver.printing`), `gamut` (the print's gamut, perceptual gamut mapping), `monotone` (one
-ink: the image's lightness in it), `black` (black generation, TAC), `solve` (start grid +
-projected Levenberg–Marquardt), `separate` (an image's distinct colours or a 3-D table over
-sRGB, report), `characterisation` (a CGATS chart),
+ink: the image's lightness in it), `duotone` (two inks: the image on their surface of colours),
+`black` (black generation, TAC), `solve` (start grid + projected Levenberg–Marquardt), `separate`
+(an image's distinct colours or a 3-D table over sRGB, report), `characterisation` (a CGATS chart),
 `screens` (AM and FM thresholds), `halftone` (texel grid, dots), `image` (files), `job` (one
 print's settings).
 """
@@ -25,11 +25,13 @@ from .printmodel import PrintColourModel
 from .printset import InkListError, parse_ink_list, printed_inks
 from .screens import am_threshold, blue_noise_mask, fm_threshold, screen_angles
 from .gamut import GamutBoundary, GamutSettings, map_to_gamut
+from .duotone import DuotoneError, DuotoneSurface
 from .monotone import MonotoneError, MonotoneRamp
 from .separate import MAPPINGS, ImageSeparation, SeparationLUT, SeparationReport, Separator, separate_image
 from .solve import CoverageGrid, Separation, SolverSettings, separate_lab
 
-__all__ = ["AUTO_MODEL", "BLACK_MODES", "BlackGeneration", "BlackGenerationError", "GamutBoundary", "GamutSettings", "InkingObjective",
+__all__ = ["AUTO_MODEL", "BLACK_MODES", "BlackGeneration", "BlackGenerationError", "DuotoneError", "DuotoneSurface",
+           "GamutBoundary", "GamutSettings", "InkingObjective",
            "MAPPINGS", "MonotoneError", "MonotoneRamp", "SeparationLUT", "Separator", "black_index", "map_to_gamut", "INTENTS", "CoverageGrid", "Dots", "DotsError", "ImageError", "ImageSeparation",
            "ImageWarning", "InkListError", "LoadedImage", "read_image", "PrintColourModel", "PrintSettings", "PrintedImage", "Separation",
            "SeparationReport", "SolverSettings", "TexelGrid", "am_threshold", "blue_noise_mask",

@@ -48,7 +48,8 @@ of a hue is the (L*, C*) of its largest chroma.
    the mapped lightness (chromatic inks alone; the darkest shadows of some sets), a*, b* are
    offset by those of its least chromatic colour of that L*, less `NEUTRAL_CHROMA` of chroma
    (continuous where neutrals begin), so that the lightness is printed with what the inks have.
-   (One ink has no volume to map into: the separator prints a monotone instead, `monotone`.)
+   (One or two inks have no volume to map into: the separator prints a monotone, `monotone`,
+   or maps onto the pair's surface of colours, `duotone`, instead.)
    Where the print has neutrals (the process inks above their darkest neutral) the offset is 0.
 
 Every step is continuous in the colour, so smooth gradients stay smooth (no notch where

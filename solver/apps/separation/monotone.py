@@ -36,9 +36,9 @@ class MonotoneError(ValueError):
     the image's lightness (the message names the ink and where the ramp turns)."""
 
 
-def ink_name(model) -> str:
-    """The spec of the model's first ink as its table records it ('B30'), else 'the ink'."""
-    return str(model.predictor.printed.inks[0].meta.get("ink", "the ink"))
+def ink_name(model, index: int = 0) -> str:
+    """The spec of the model's ink `index` as its table records it ('B30'), else 'the ink'."""
+    return str(model.predictor.printed.inks[index].meta.get("ink", "the ink"))
 
 
 @dataclass(frozen=True)
@@ -49,6 +49,9 @@ class MonotoneRamp:
     coverage_nodes: np.ndarray    # [RAMP_NODES] in [0, 1]
     lightness: np.ndarray         # [RAMP_NODES] L* printed at them, strictly decreasing
     ink: str                      # the ink's name, for the report
+
+    tabulated = False             # separated directly: a table would only add its interpolation
+    black_label = "one ink, no black generation"
 
     @classmethod
     def build(cls, model) -> "MonotoneRamp":
@@ -77,6 +80,11 @@ class MonotoneRamp:
         """L* of the solid (coverage 1): the image's black."""
         return float(self.lightness[-1])
 
+    @property
+    def lightness_range(self) -> tuple[float, float]:
+        """(black, white) L* of the black-point compensation."""
+        return self.solid_l, self.paper_l
+
     def lightness_map(self, L) -> np.ndarray:
         """Black-point compensation: L* 0…100 → solid_l…paper_l (linear)."""
         return compensate_lightness(L, self.solid_l, self.paper_l)
@@ -85,15 +93,22 @@ class MonotoneRamp:
         """The coverage [N] whose printed L* is L [N] (clamped to the ramp's range)."""
         return np.interp(-np.asarray(L, dtype=np.float64).reshape(-1), -self.lightness, self.coverage_nodes)
 
-    def separate(self, source_lab, gamut_de: float = 0.5) -> Separation:
+    def separate(self, source_lab, gamut_de: float = 0.5, chunk: int | None = None) -> Separation:
         """The monotone of source colours CIELAB [N, 3]: coverages [N, 1] printing their
         compensated L*, the mapped colours the printed ones (`gamut_de`: the Separation's
-        out-of-gamut threshold, never exceeded)."""
+        out-of-gamut threshold, never exceeded; `chunk` unused: one interpolation per colour)."""
         source = np.asarray(source_lab, dtype=np.float64).reshape(-1, 3)
         c = self.coverage(self.lightness_map(source[:, 0]))[:, None]
         printed = self.model.lab(c)
         return Separation(c, printed.copy(), printed, np.zeros(c.shape[0], dtype=np.int64), gamut_de)
 
-    def mapped(self, source_lab) -> np.ndarray:
+    def mapped(self, source_lab, chunk: int | None = None) -> np.ndarray:
         """The colours to print (CIELAB [N, 3]) of source colours: the ink's at their coverage."""
         return self.separate(source_lab).printed_lab
+
+    def report_line(self, mean_de2000: float, max_de2000: float) -> str:
+        """What was printed instead of a gamut mapping (the ΔE2000 image → print: unused, the
+        report's first line has the mean)."""
+        return (f"one ink: a monotone of the image's lightness in {self.ink} (each pixel's L*, compensated onto "
+                f"the ink's L* {self.solid_l:.1f} solid – {self.paper_l:.1f} paper, printed as the coverage that "
+                "prints it); the image's hues are not reproduced")

@@ -14,9 +14,11 @@ colour is interpolated tetrahedrally between the four nodes of its tetrahedron (
 way an ICC B2A table is used; benchmarks/bench_separation.py measures the interpolation's
 error against the direct separation.
 
-One ink under the perceptual mapping prints a monotone (`monotone`): each colour's compensated
-L* as the coverage that prints it, exact and cheap, so every distinct colour is separated
-directly whatever `lut_nodes` (the table would only add its interpolation error).
+One or two inks under the perceptual mapping have no volume of colours to map into (`few_inks`):
+one ink prints a monotone (`monotone`): each colour's compensated L* as the coverage that prints
+it, exact and cheap, so every distinct colour is separated directly whatever `lut_nodes` (the
+table would only add its interpolation error); two inks map each colour onto their surface of
+colours (`duotone`), through the table like three inks or more when the image has more colours.
 """
 
 from __future__ import annotations
@@ -29,6 +31,7 @@ import numpy as np
 from .black import BlackGeneration, InkingObjective
 from .colour_space import delta_e2000, srgb_to_lab
 from .gamut import GamutBoundary, GamutSettings, map_to_gamut
+from .duotone import DuotoneSurface
 from .image import unique_colours
 from .monotone import MonotoneRamp
 from .printmodel import PrintColourModel
@@ -57,7 +60,7 @@ class Separator:
     gamut: GamutSettings = GamutSettings()
     solver: SolverSettings = SolverSettings()
     lut_nodes: int = DEFAULT_LUT_NODES
-    monotone: MonotoneRamp | None = None     # one ink, perceptual: the image's lightness in it
+    few_inks: MonotoneRamp | DuotoneSurface | None = None   # one or two inks, perceptual (`few_inks_map`)
 
     @classmethod
     def build(cls, model: PrintColourModel, black: int | None = None, rule: BlackGeneration = BlackGeneration(),
@@ -70,8 +73,9 @@ class Separator:
         hull = GamutBoundary.build(model, rule.tac)
         objective = InkingObjective.build(model, black, rule, hull)
         grid = CoverageGrid.build(objective, solver.nodes(model.n_inks))
-        if model.n_inks == 1 and mapping == "perceptual":        # a curve, not a volume: no boundary
-            return cls(model, objective, hull, grid, mapping, gamut, solver, lut_nodes, MonotoneRamp.build(model))
+        if model.n_inks <= 2 and mapping == "perceptual":        # a curve or a surface: no boundary
+            return cls(model, objective, hull, grid, mapping, gamut, solver, lut_nodes,
+                       few_inks_map(model, rule.tac))
         quick = replace(solver, starts=1, near_miss_starts=0, max_iterations=REFINE_ITERATIONS)
         printed_of = lambda lab: separate_lab(model, lab, quick, grid, objective=objective).printed_lab  # noqa: E731
         boundary = hull.refined(printed_of)
@@ -101,16 +105,16 @@ class Separator:
     @property
     def lightness_range(self) -> tuple[float, float] | None:
         """(black, white) L* of the black-point compensation (None: clip, none)."""
-        if self.monotone is not None:
-            return self.monotone.solid_l, self.monotone.paper_l
+        if self.few_inks is not None:
+            return self.few_inks.lightness_range
         return (self.boundary.black_l, self.boundary.white_l) if self.mapping == "perceptual" else None
 
     def lightness_mapped(self, source_lab) -> np.ndarray:
         """Source colours after the black-point compensation and the print's grey alone
         (perceptual), or as they are (clip): what a colour inside the gamut prints as (a
-        monotone: the ink's colour of its compensated L*)."""
-        if self.monotone is not None:
-            return self.monotone.mapped(source_lab)
+        monotone, a duotone: what the inks print for it)."""
+        if self.few_inks is not None:
+            return self.few_inks.mapped(source_lab, self.solver.chunk)
         lab = np.array(source_lab, dtype=np.float64).reshape(-1, 3)
         if self.mapping == "perceptual":
             lab[:, 0] = self.boundary.lightness_map(lab[:, 0])
@@ -118,10 +122,10 @@ class Separator:
         return lab
 
     def targets(self, source_lab) -> np.ndarray:
-        """The colours to print of source colours (CIELAB of sRGB): gamut-mapped, the monotone's, or
-        as they are."""
-        if self.monotone is not None:
-            return self.monotone.mapped(source_lab)
+        """The colours to print of source colours (CIELAB of sRGB): gamut-mapped, the monotone's or
+        duotone's, or as they are."""
+        if self.few_inks is not None:
+            return self.few_inks.mapped(source_lab, self.solver.chunk)
         if self.mapping == "clip":
             return np.asarray(source_lab, dtype=np.float64).reshape(-1, 3)
         return map_to_gamut(source_lab, self.boundary, self.gamut, self.model.measurement)
@@ -129,13 +133,21 @@ class Separator:
     def separate_srgb(self, encoded, progress=None):
         """(Separation of the mapped colours, source CIELAB) for encoded sRGB values [N, 3] in [0, 1]."""
         source = srgb_to_lab(np.asarray(encoded, dtype=np.float64).reshape(-1, 3), self.model.measurement)
-        if self.monotone is not None:
-            sep = self.monotone.separate(source, self.solver.gamut_de)
+        if self.few_inks is not None:
+            sep = self.few_inks.separate(source, self.solver.gamut_de, self.solver.chunk)
             if progress is not None:
                 progress(source.shape[0])
             return sep, source
         sep = separate_lab(self.model, self.targets(source), self.solver, self.grid, progress, self.objective)
         return sep, source
+
+
+def few_inks_map(model: PrintColourModel, tac: float) -> MonotoneRamp | DuotoneSurface:
+    """The mapping of a print with too few inks for a volume of colours: one ink's monotone, two
+    inks' surface (`tac`: the total area coverage limit, a fraction)."""
+    if model.n_inks == 1:
+        return MonotoneRamp.build(model)
+    return DuotoneSurface.build(model, tac)
 
 
 @dataclass(frozen=True)
@@ -192,17 +204,14 @@ class SeparationReport:
     lightness_range: tuple | None        # (black, white) L* of the black-point compensation
     black: str
     seconds: float
-    monotone_ink: str | None = None      # one ink: the image's lightness printed in it (`monotone`)
+    few_inks_line: str | None = None     # one or two inks: what was printed instead of a gamut mapping
 
     def lines(self) -> list[str]:
         how = (f"through a {self.lut_nodes}³ table" if self.lut_nodes else "directly")
         out = [f"separated {self.pixels:,} pixels ({self.unique_colours:,} distinct colours) {how} in "
                f"{self.seconds:.1f} s; {self.black}; mean ΔE2000 image → print {self.mean_de2000:.2f}"]
-        if self.monotone_ink is not None:              # no gamut to map into: one line says what it is
-            black, white = self.lightness_range
-            out.append(f"one ink: a monotone of the image's lightness in {self.monotone_ink} (each pixel's L*, "
-                       f"compensated onto the ink's L* {black:.1f} solid – {white:.1f} paper, printed as the "
-                       "coverage that prints it); the image's hues are not reproduced")
+        if self.few_inks_line is not None:             # no gamut to map into: one line says what it is
+            out.append(self.few_inks_line)
         else:
             out.extend(self._gamut_lines())
         if self.residual_pixels:
@@ -248,7 +257,8 @@ def separate_image(separator, rgb8: np.ndarray, settings: SolverSettings | None 
     rows, cols = rgb8.shape[:2]
     colours, index = unique_colours(rgb8)
     encoded = colours / 255.0
-    use_lut = separator.monotone is None and separator.lut_nodes and colours.shape[0] > separator.lut_nodes ** 3
+    few = separator.few_inks
+    use_lut = (few is None or few.tabulated) and separator.lut_nodes and colours.shape[0] > separator.lut_nodes ** 3
     total = separator.lut_nodes ** 3 if use_lut else colours.shape[0]
     done = [0]
 
@@ -265,29 +275,35 @@ def separate_image(separator, rgb8: np.ndarray, settings: SolverSettings | None 
         lut, sep = SeparationLUT.build(separator, separator.lut_nodes, bar)
         coverages = lut(encoded)
         printed = model.lab(coverages)
-        moved = np.linalg.norm(printed - separator.lightness_mapped(source), axis=-1) > MAPPED_DE  # or missed
+        reached = printed                          # moved by the mapping, or missed
         miss = sep.delta_e76                                               # at the table's nodes
         missed_count = int(np.sum(miss > separator.solver.gamut_de))
     else:
         sep, _ = separator.separate_srgb(encoded, bar)
         coverages, printed = sep.coverages, sep.printed_lab
-        moved = np.linalg.norm(sep.target_lab - separator.lightness_mapped(source), axis=-1) > MAPPED_DE
+        reached = sep.target_lab
         miss = sep.delta_e76
         missed_count = int(counts[miss > separator.solver.gamut_de].sum())
     if separator.mapping == "clip":                  # the solver's miss is the clipping
         moved = np.linalg.norm(printed - source, axis=-1) > separator.solver.gamut_de
         missed_count = 0
+    elif few is not None:                            # one or two inks: no gamut mapping moved them
+        moved = np.zeros(colours.shape[0], dtype=bool)
+    else:
+        moved = np.linalg.norm(reached - separator.lightness_mapped(source), axis=-1) > MAPPED_DE
     de00 = delta_e2000(printed, source)
+    mean_de00 = float(np.average(de00, weights=counts))
     w = counts[moved]
     report = SeparationReport(
         rows * cols, colours.shape[0], int(w.sum()), separator.mapping,
         float(np.average(de00[moved], weights=w)) if w.sum() else 0.0, float(de00[moved].max(initial=0.0)),
-        float(np.average(de00, weights=counts)), float(miss.max(initial=0.0)), missed_count,
+        mean_de00, float(miss.max(initial=0.0)), missed_count,
         separator.solver.gamut_de, separator.lut_nodes if use_lut else 0, separator.lightness_range,
-        "one ink, no black generation" if separator.monotone is not None
+        few.black_label if few is not None
         else ("black: " + separator.objective.rule.label()) if separator.objective.black is not None
         else f"no black ink, TAC {100 * separator.objective.rule.tac:g} %",
-        time.perf_counter() - t0, separator.monotone.ink if separator.monotone is not None else None)
+        time.perf_counter() - t0,
+        few.report_line(mean_de00, float(de00.max(initial=0.0))) if few is not None else None)
     k = model.n_inks
     return ImageSeparation(coverages.astype(np.float32)[index].reshape(rows, cols, k),
                            printed.astype(np.float32)[index].reshape(rows, cols, 3), report)
