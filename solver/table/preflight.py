@@ -45,7 +45,10 @@ APPLICATIONS_TOL_SLOPE = 0.27
 #: lateral FFT per application (R15, 300-nm spheres, 500 and 740 nm, 48×48×24 and 64×64×32:
 #: unit CPU 3.0–3.2× the flat twin's, i.e. 1.5–1.6 per solve); a whole rough-top cell (R15,
 #: default preset, 11 wavelengths) took 1.4× more relative to its flat twin than that
-#: (`bench_figures sample-quick`, docs/figures.md): 2.2
+#: (`bench_figures sample-quick`, docs/figures.md): 2.2.  Kept when a rough top's TM got its mean
+#: profile (wave_tier.tm_faces; its cells 1.52× slower: the `default` Fig. 7's rough cells, CSV
+#: seconds, 578 → 878 s, 2026-12-03): the whole figure then took 53.7 min against this
+#: estimate's 56.4 (0.95; 0.90 before), where 3.3 would have estimated 66 min
 ROUGH_TOP_SOLVE_FACTOR = 2.2
 #: measured/modelled wall time of the preview Fig. 7's particle cells (326 tables built in one
 #: pool, default model, empty cache, 2 workers) on this project's quiet 2-core VM, yardstick
