@@ -1,4 +1,6 @@
-"""Inner TM interfaces of a stack of layers (docs/wave_solver.md, "Stacks in TM").
+"""Inner TM interfaces of a stack of layers (docs/wave_solver.md, "Stacks in TM"), and of a
+layer's mean profile taken as such a stack (`mean_profile`: a rough top's, "The mean profile in
+TM").
 
 The background is one slab of ε_b; a stack's layers differ from it by their contrast, which the
 scalar interior carries exactly for TE (u = E_y: u and ∂_z u continuous at every interface) but
