@@ -176,9 +176,10 @@ def _bad_cases(tmp, tables, unwritable):
 
 @pytest.mark.render
 def test_a_scene_loads_table_build_says_so_and_more_with_verbose(tmp_path):
-    """By default a user sees the render's own lines, warnings and, when the scene load builds a
-    table, its first and last line (a long load is not silent) and nothing else; -v adds what a
-    build computes and reuses (INFO of inkbsdf.tables), as in `ink-tables` (one logging setup)."""
+    """By default a user sees the render's own lines and warnings; an instant (molecular) table
+    the scene load builds says nothing; -v adds what a build computes and reuses (INFO of
+    inkbsdf.tables, the build's first and last line among them), as in `ink-tables` (one logging
+    setup).  A slow build's lines show without -v: the next test."""
     scene = bare_scene(tmp_path, '<string name="ink" value="Y30"/>', spp="1")
     for extra, verbose in (([], False), (["-v"], True)):
         env = {**os.environ, "INKBSDF_CACHE": str(tmp_path / f"cache{int(verbose)}")}   # built each time
@@ -187,8 +188,35 @@ def test_a_scene_loads_table_build_says_so_and_more_with_verbose(tmp_path):
         assert proc.returncode == 0, proc.stderr
         assert "render" in proc.stdout and " s " in proc.stdout
         lines = proc.stderr.splitlines()
-        assert lines[0].startswith("inkbsdf: computing table: Y30") and lines[-1].startswith("inkbsdf: table ready in")
-        assert verbose or len(lines) == 2, proc.stderr         # nothing else without -v
+        if verbose:
+            assert any("computing table: Y30" in line for line in lines), proc.stderr
+            assert any("table ready in" in line for line in lines), proc.stderr
+        else:
+            assert lines == [], proc.stderr                     # nothing without -v
+
+
+def test_a_slow_build_says_its_first_and_last_line_without_verbose(tmp_path, monkeypatch, caplog):
+    """A build the preflight expects to take ≥ QUIET_BUILD_S logs on the builds logger (shown by
+    render and print without -v: a long scene load is not silent); an instant one does not."""
+    import dataclasses
+    import logging
+
+    from solver.table import builder, preflight
+    from solver.table.cache import TableCache
+    from solver.table.request import table_request
+
+    opts = lambda name: builder.BuildOptions(cache=TableCache(tmp_path / name))   # noqa: E731
+    with caplog.at_level(logging.INFO, logger="inkbsdf.tables"):
+        builder.get_or_build(table_request("Y30"), opts("instant"))
+    assert not [r for r in caplog.records if r.name == builder.BUILDS_LOGGER]
+    assert any("computing table" in r.message for r in caplog.records)      # with -v
+    caplog.clear()
+    real = preflight.check
+    monkeypatch.setattr(preflight, "check", lambda *a, **k: dataclasses.replace(real(*a, **k), seconds=40.0))
+    with caplog.at_level(logging.INFO, logger="inkbsdf.tables"):
+        builder.get_or_build(table_request("R30"), opts("slow"))
+    said = [r.getMessage() for r in caplog.records if r.name == builder.BUILDS_LOGGER]
+    assert len(said) == 2 and "(estimated 40 s" in said[0] and said[1].startswith("table ready in"), said
 
 
 def test_bad_input_one_line_exit_2_before_any_work(tmp_path, ink_tables, unwritable_dir, capsys):

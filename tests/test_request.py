@@ -255,3 +255,17 @@ def test_a_thick_film_whose_fringes_the_default_step_misses_is_warned_about():
         table_request("clear", thickness_nm=20000.0, wavelengths_nm=tuple(range(380, 781)))   # sampled finely
         assert not caught, [str(w.message) for w in caught]
     assert len(thick) == 1 and "2.32 nm apart at 380 nm" in thick[0] and "--wavelengths 380:780:1)" in thick[0]
+
+
+def test_fringes_finer_than_any_offered_step_ask_for_a_thinner_layer():
+    """A 10-mm 'layer' (µm typed as nm twice): fringes 0.0046 nm apart; no step the warning
+    could offer (down to 0.1 nm) resolves them, so it asks for a thinner layer, not a step that
+    would not help."""
+    import warnings
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        table_request("clear", thickness_nm=1e7)
+    said = [str(w.message) for w in caught if "fringes" in str(w.message)]
+    assert len(said) == 1 and "0.00463 nm apart" in said[0], said
+    assert "use a thinner layer" in said[0] and "--wavelengths" not in said[0], said

@@ -34,6 +34,9 @@ log = logging.getLogger("inkbsdf.tables")
 #: tables on the way (render, print) shows without -v (solver/apps/cli/logs.py)
 BUILDS_LOGGER = "inkbsdf.tables.builds"
 builds = logging.getLogger(BUILDS_LOGGER)
+#: a build estimated under this many seconds (a molecular film: instant) logs its first and last
+#: line with the other INFO lines, shown only with -v: a quiet command stays quiet
+QUIET_BUILD_S = 1.0
 
 
 @dataclass(frozen=True)
@@ -282,12 +285,13 @@ def get_or_build(request: TableRequest, opts: BuildOptions | None = None) -> tup
         with opts.cache.lock(request):          # one builder per table, across threads and processes
             table = opts.cache.load(request)    # built meanwhile by whoever held the lock?
             if table is None:
-                builds.info("computing table: %s%s", request.describe(), "" if est < 1 else
-                            f" (estimated {preflight.duration(est)} for a quiet machine)")
+                say = builds.info if est >= QUIET_BUILD_S else log.info
+                say("computing table: %s%s", request.describe(), "" if est < QUIET_BUILD_S else
+                    f" (estimated {preflight.duration(est)} for a quiet machine)")
                 t0 = time.perf_counter()
                 table = build_table(request, opts)
                 path = opts.cache.store(request, table)
-                builds.info("table ready in %.1f s: %s", time.perf_counter() - t0, path)
+                say("table ready in %.1f s: %s", time.perf_counter() - t0, path)
                 return table, str(path), True
     log.info("cache hit for %s", request.describe())
     return table, str(opts.cache.table_path(request)), False

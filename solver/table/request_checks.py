@@ -85,6 +85,10 @@ def thin_layers_warning(thicknesses_nm, option: str = OPTION["thickness_nm"]) ->
             f"{THIN_LAYER_NM:g} nm, while a printed ink layer is ~1000 nm (1 µm): thicknesses are in nm")
 
 
+#: the wavelength steps (nm) fringe_aliasing_warning offers, coarsest first (each divides 400 nm)
+FRINGE_STEPS_NM = (5.0, 4.0, 2.0, 1.0, 0.5, 0.25, 0.2, 0.1)
+
+
 def fringe_aliasing_warning(thickness_nm: float, wavelengths_nm, binder_index: float) -> str | None:
     """A warning when a film's interference fringes are finer than the table's wavelength step
     (less than one sample per fringe at the blue end: the colour is aliased), or None.  Fringe
@@ -99,10 +103,15 @@ def fringe_aliasing_warning(thickness_nm: float, wavelengths_nm, binder_index: f
     spacing = float(wl[0]) ** 2 / (2.0 * binder_index * float(thickness_nm))
     if step <= spacing:
         return None
-    fine = next((s for s in (5.0, 4.0, 2.0, 1.0, 0.5, 0.25, 0.2, 0.1) if s <= spacing / 2.0), 0.1)   # divides 400 nm
-    return (f"{OPTION['thickness_nm']}: a {thickness_nm:g}-nm film's interference fringes "
+    said = (f"{OPTION['thickness_nm']}: a {thickness_nm:g}-nm film's interference fringes "
             f"are {spacing:.3g} nm apart at {wl[0]:g} nm, and the table samples every {step:g} nm: its colour is "
-            f"aliased; sample finer ({OPTION['wavelengths_nm']} {wl[0]:g}:{wl[-1]:g}:{fine:g}) or use a thinner layer")
+            f"aliased; ")
+    fine = next((s for s in FRINGE_STEPS_NM if s <= spacing / 2.0), None)
+    if fine is None:          # no step we offer resolves them: only the layer can change
+        return said + (f"no wavelength step down to {FRINGE_STEPS_NM[-1]:g} nm resolves them: use a "
+                       f"thinner layer (ink layers are ~1000 nm)")
+    return said + (f"sample finer ({OPTION['wavelengths_nm']} {wl[0]:g}:{wl[-1]:g}:{fine:g}) or use a "
+                   f"thinner layer")
 
 
 def validate(req: TableRequest) -> None:
