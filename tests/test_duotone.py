@@ -126,7 +126,8 @@ def test_report_says_what_was_done_and_nothing_missed(yb, lut):
     rgb = np.random.default_rng(6).integers(0, 256, (20, 20, 3)).astype(np.uint8)      # 400 colours > 5³
     result = separate_image(separator, rgb)
     report, lines = result.report, result.report.lines()
-    assert report.lut_nodes == lut and report.residual_pixels == 0 and report.mapped_pixels == 0
+    # every colour separated directly whatever lut_nodes (the table is coarse in light yellows)
+    assert report.lut_nodes == 0 and report.residual_pixels == 0 and report.mapped_pixels == 0
     assert len(lines) == 2 and lines[1].startswith("two inks: colours mapped onto the surface of colours Y30 + B30"), lines
     assert not any("out of gamut" in x or "miss" in x or "black-point" in x for x in lines), lines
     assert f"mean {report.mean_de2000:.2f}, max " in lines[1] and "two inks, no black generation" in lines[0]

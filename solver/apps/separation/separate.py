@@ -18,7 +18,7 @@ One or two inks under the perceptual mapping have no volume of colours to map in
 one ink prints a monotone (`monotone`): each colour's compensated L* as the coverage that prints
 it, exact and cheap, so every distinct colour is separated directly whatever `lut_nodes` (the
 table would only add its interpolation error); two inks map each colour onto their surface of
-colours (`duotone`), through the table like three inks or more when the image has more colours.
+colours (`duotone`), also directly (a table's cells are coarse in their light yellows).
 """
 
 from __future__ import annotations
