@@ -96,7 +96,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="share of the gamut left untouched by the perceptual mapping, in [0, 1)")
     p.add_argument("--lut", type=int, default=DEFAULT_LUT_NODES,
                    help="nodes per sRGB axis of the separation table used for images with more distinct "
-                        "colours than its nodes (0: separate every colour; a one-ink monotone never needs one)")
+                        "colours than its nodes (0: separate every colour; one or two inks never use one: they are separated "
+                        "directly)")
     p.add_argument("--characterisation", default=None, metavar="OUT.txt",
                    help="also write an IT8.7/4-style chart and its predicted CIELAB (45:0, D50) as CGATS text")
     p.add_argument("--coverage-model", default=AUTO_MODEL, choices=(AUTO_MODEL,) + COVERAGE_MODELS,
