@@ -223,3 +223,16 @@ def test_cmyk_file_without_profile_warns(tmp_path):
     with pytest.warns(ImageWarning, match="CMYK image without a usable ICC profile"):
         image = read_image(tmp_path / "c.jpg")
     assert image.rgb8.shape == (3, 4, 3) and image.rgb8.min() >= 250          # no ink: white
+
+
+def test_a_bare_process_letter_points_to_the_process_set():
+    """'--inks C,M' (a user who read of the process inks C, M, Y, K): the ink-spec error says
+    that the four together are 'process'; an ordinary bad term gets no such hint."""
+    from solver.apps.separation import parse_ink_list
+    from solver.apps.separation.printset import InkListError
+
+    with pytest.raises(InkListError, match=r"bad ink term 'C'.*the process inks K, C, M, Y together are 'process'"):
+        parse_ink_list("C,M")
+    with pytest.raises(InkListError) as info:
+        parse_ink_list("B3O")
+    assert "process" not in str(info.value)

@@ -67,6 +67,16 @@ def process_set() -> tuple[str, ...]:
     return tuple(f"{ink.spec}{THICKNESS_SEPARATOR}{ink.thickness_nm:g}" for ink in process_inks())
 
 
+def _process_hint(spec: str) -> str:
+    """A hint for a bare process-ink letter ('C', 'M', …) where an ink spec was expected."""
+    try:
+        letters = [label[0] for label in process_set()]          # in printing order
+    except ImportError:
+        return ""
+    return (f" (the process inks {', '.join(letters)} together are '{PROCESS}')"
+            if spec.strip().upper() in letters else "")
+
+
 def parse_ink_list(text: str) -> tuple[str, ...]:
     """'R30,Y30,B30' → ('R30', 'Y30', 'B30'): 1 to 4 molecular ink specs, canonical labels, each
     optionally with its layer thickness ('C8.7@1500', nm); `process` names the process inks.
@@ -92,7 +102,7 @@ def parse_ink_list(text: str) -> tuple[str, ...]:
         try:
             label = parse_ink(spec).label
         except ValueError as exc:
-            raise InkListError(f"inks: {exc}") from None
+            raise InkListError(f"inks: {exc}{_process_hint(spec)}") from None
         if sep:
             try:
                 nm = float(thickness.strip().removesuffix("nm"))
