@@ -92,10 +92,6 @@ class DuotoneSurface:
     edge_l: np.ndarray            # [EDGE_NODES] their L*, made one-dipped (falls, then rises)
     curve_ab: np.ndarray          # [LEVELS, CURVE_NODES, 2] a*b* along each level's curve
 
-    #: separated directly whatever --lut: a 33³ table's cells are coarse in the light yellows
-    #: (ΔE76 up to 5.7, Y30's b* changes 13 per L*), and the direct mapping takes 1.5× the
-    #: table's time (970,693 distinct colours: 9.2 s against 6.3 s on 2 cores)
-    tabulated = False
     black_label = "two inks, no black generation"
 
     @classmethod

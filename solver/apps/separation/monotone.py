@@ -50,7 +50,6 @@ class MonotoneRamp:
     lightness: np.ndarray         # [RAMP_NODES] L* printed at them, strictly decreasing
     ink: str                      # the ink's name, for the report
 
-    tabulated = False             # separated directly: a table would only add its interpolation
     black_label = "one ink, no black generation"
 
     @classmethod

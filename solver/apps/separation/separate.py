@@ -18,7 +18,9 @@ One or two inks under the perceptual mapping have no volume of colours to map in
 one ink prints a monotone (`monotone`): each colour's compensated L* as the coverage that prints
 it, exact and cheap, so every distinct colour is separated directly whatever `lut_nodes` (the
 table would only add its interpolation error); two inks map each colour onto their surface of
-colours (`duotone`), also directly (a table's cells are coarse in their light yellows).
+colours (`duotone`), also directly: a 33³ table's cells are coarse in their light yellows (ΔE76
+up to 5.7 for Y30+B30, whose b* changes 13 per L*), and the direct mapping takes 1.5× the
+table's time (970,693 distinct colours: 9.2 s against 6.3 s on 2 cores).
 """
 
 from __future__ import annotations
@@ -258,7 +260,8 @@ def separate_image(separator, rgb8: np.ndarray, settings: SolverSettings | None 
     colours, index = unique_colours(rgb8)
     encoded = colours / 255.0
     few = separator.few_inks
-    use_lut = (few is None or few.tabulated) and separator.lut_nodes and colours.shape[0] > separator.lut_nodes ** 3
+    # one or two inks are separated directly whatever lut_nodes (module docstring)
+    use_lut = few is None and separator.lut_nodes and colours.shape[0] > separator.lut_nodes ** 3
     total = separator.lut_nodes ** 3 if use_lut else colours.shape[0]
     done = [0]
 
