@@ -246,15 +246,22 @@ def quick() -> int:
     return 0
 
 
-def voxel_map_study(seconds: float, presets: tuple[str, ...], realizations: int = 1,
-                    rough: bool = False) -> int:
-    """Print the voxel-grid map (benchmarks/vector/voxel_map.py) and draw its picture."""
+def _grcwa_missing() -> bool:
+    """True (and one line on stderr saying how to install it) when grcwa, the RCWA referee of the
+    optional `vector` extra, is not installed."""
     try:
         import grcwa  # noqa: F401
     except ImportError:
-        if seconds > 0:
-            print("grcwa is not installed: pip install -e '.[vector]' (optional extra)", file=sys.stderr)
-            return 2
+        print("grcwa is not installed: pip install -e '.[vector]' (optional extra)", file=sys.stderr)
+        return True
+    return False
+
+
+def voxel_map_study(seconds: float, presets: tuple[str, ...], realizations: int = 1,
+                    rough: bool = False) -> int:
+    """Print the voxel-grid map (benchmarks/vector/voxel_map.py) and draw its picture."""
+    if seconds > 0 and _grcwa_missing():
+        return 2
     from benchmarks.vector import voxel_map as vm
 
     t0 = time.monotonic()
@@ -289,10 +296,7 @@ def voxel_map_study(seconds: float, presets: tuple[str, ...], realizations: int 
 
 def rough_profile(realizations: int) -> int:
     """Print the rough top's TM profile study (voxel_map.rough_profile_study)."""
-    try:
-        import grcwa  # noqa: F401
-    except ImportError:
-        print("grcwa is not installed: pip install -e '.[vector]' (optional extra)", file=sys.stderr)
+    if _grcwa_missing():
         return 2
     from benchmarks.vector import voxel_map as vm
     from benchmarks.yardstick import yardstick_s
